@@ -1,0 +1,73 @@
+#pragma once
+
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+
+namespace rotorfit
+{
+  /**
+   * Writes to the terminal and to the run's log file, on MPI rank 0 only.
+   * The log file is flushed after every line so that an interrupted run
+   * keeps everything it printed.
+   */
+  class Log
+  {
+  public:
+    explicit Log(const bool active)
+      : active(active)
+    {}
+
+    /// Start copying everything into @p filename (rank 0 only).
+    void
+    open_file(const std::string &filename)
+    {
+      if (active)
+        file.open(filename);
+    }
+
+    template <typename T>
+    Log &
+    operator<<(const T &t)
+    {
+      if (active)
+        {
+          std::cout << t;
+          if (file.is_open())
+            file << t;
+        }
+      return *this;
+    }
+
+    Log &
+    operator<<(std::ostream &(*manipulator)(std::ostream &))
+    {
+      if (active)
+        {
+          std::cout << manipulator;
+          if (file.is_open())
+            file << manipulator << std::flush;
+        }
+      return *this;
+    }
+
+    /// Write to the log file only (not the terminal).
+    void
+    file_only(const std::string &text)
+    {
+      if (active && file.is_open())
+        file << text << std::flush;
+    }
+
+    bool
+    is_active() const
+    {
+      return active;
+    }
+
+  private:
+    bool          active;
+    std::ofstream file;
+  };
+} // namespace rotorfit

@@ -1,0 +1,143 @@
+#pragma once
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+
+#include <deal.II/dofs/dof_handler.h>
+
+#include <deal.II/lac/sparse_direct.h>
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/sparsity_pattern.h>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace rotorfit
+{
+  class AssemblyMesh;
+
+  /// A shrink-fit interface as given in subsection "Interface <name>".
+  struct InterfaceDefinition
+  {
+    std::string name;
+    std::string shaft_surface; ///< physical surface, shaft (inner) side
+    std::string hub_surface;   ///< physical surface, hub (outer) side
+    double      interference;  ///< radial interference delta [m], > 0
+  };
+
+  /**
+   * The shrink-fit interfaces: top-level entry "Interfaces" (names) and one
+   * subsection "Interface <name>" per name.
+   */
+  class ContactInterfaces
+  {
+  public:
+    static void
+    declare_list(dealii::ParameterHandler &prm);
+
+    static void
+    declare_parameters(dealii::ParameterHandler       &prm,
+                       const std::vector<std::string> &names);
+
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+
+    const std::vector<InterfaceDefinition> &
+    list() const
+    {
+      return interfaces;
+    }
+
+  private:
+    std::vector<InterfaceDefinition> interfaces;
+  };
+
+  /**
+   * One node-to-node pair: a shaft-side and a hub-side support point that
+   * coincide in the reference mesh. Only the x and y DoFs take part
+   * (frictionless, radial normal n = (x, y, 0)/r fixed in the reference
+   * configuration). Gap g = n.(u_hub - u_shaft) - delta, g < 0: penetration.
+   */
+  struct ContactPair
+  {
+    unsigned int                                 interface;
+    std::array<dealii::types::global_dof_index, 2> shaft_dofs; ///< x, y
+    std::array<dealii::types::global_dof_index, 2> hub_dofs;   ///< x, y
+    dealii::Tensor<1, 3>                         normal;
+    dealii::Point<3>                             position;
+    double                                       interference;
+  };
+
+  /**
+   * All contact pairs of all interfaces, and per interface the consistent
+   * surface mass matrix that turns nodal contact forces into a pressure
+   * field (N_i = int psi_i p dA; P2 vertex weights int psi_i dA are zero, so
+   * a plain division would fail).
+   */
+  class ContactPairs
+  {
+  public:
+    /**
+     * Pair the support points of every interface. Throws InputError naming
+     * the interface, the number of unmatched points and the first one.
+     */
+    void
+    build(const AssemblyMesh                     &mesh,
+          const dealii::DoFHandler<3>            &dof_handler,
+          const std::vector<dealii::Point<3>>    &support_points,
+          const std::vector<InterfaceDefinition> &interfaces);
+
+    const std::vector<ContactPair> &
+    pairs() const
+    {
+      return pair_list;
+    }
+
+    unsigned int
+    n_interfaces() const
+    {
+      return surfaces.size();
+    }
+
+    /// Global pair indices of interface @p i.
+    const std::vector<unsigned int> &
+    pairs_of(const unsigned int i) const
+    {
+      return surfaces[i].pairs;
+    }
+
+    /// Area of interface @p i [m^2] (shaft side, curved geometry).
+    double
+    area(const unsigned int i) const
+    {
+      return surfaces[i].area;
+    }
+
+    /// Area of the faces of interface @p i weighted by the share of their
+    /// pair points that are closed [m^2].
+    double
+    closed_area(const unsigned int i, const std::vector<bool> &closed) const;
+
+    /// Pressure at each pair [Pa] from nodal normal forces @p force [N]
+    /// (both indexed by global pair number).
+    std::vector<double>
+    pressure(const std::vector<double> &force) const;
+
+  private:
+    struct Surface
+    {
+      std::vector<unsigned int>              pairs;
+      std::vector<std::vector<unsigned int>> faces; // local pair indices
+      std::vector<double>                    face_area;
+      double                                 area = 0;
+      dealii::SparsityPattern                pattern;
+      dealii::SparseMatrix<double>           mass;
+      std::shared_ptr<dealii::SparseDirectUMFPACK> inverse;
+    };
+
+    std::vector<ContactPair> pair_list;
+    std::vector<Surface>     surfaces;
+  };
+} // namespace rotorfit

@@ -1,0 +1,179 @@
+#pragma once
+
+#include <rotorfit/contact/contact_pairs.h>
+#include <rotorfit/linear_algebra/direct_solver.h>
+
+#include <deal.II/base/index_set.h>
+#include <deal.II/base/parameter_handler.h>
+
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/petsc_sparse_matrix.h>
+#include <deal.II/lac/petsc_vector.h>
+#include <deal.II/lac/vector.h>
+
+#include <vector>
+
+namespace rotorfit
+{
+  /**
+   * Node-to-node frictionless contact of the static solve (THEORY 7):
+   * penalty or augmented Lagrangian (Uzawa), active-set iteration with an
+   * iteration cap and a cycling guard.
+   *
+   * For a fixed active set and spin softening off the problem is linear in
+   * the load, and the load is interference + Omega^2 * (unit centrifugal
+   * load). Each active set is therefore solved once for the two load cases,
+   * u = u_I + w u_C, N = N_I + w N_C with w = Omega^2, on one factorisation:
+   * every speed with the same active set costs nothing, and the speed at
+   * which each pair opens (N_i = 0) follows without further solves.
+   * With spin softening on the matrix depends on w and every speed is solved
+   * on its own factorisation.
+   *
+   * Parameters: subsection "Contact".
+   */
+  class ContactSolver
+  {
+  public:
+    enum class Method
+    {
+      penalty,
+      augmented_lagrangian
+    };
+
+    /// Solution of one active set: the two load cases (or one, at fixed w).
+    struct Decomposition
+    {
+      std::vector<bool>   active;
+      std::vector<double> force_I, force_C; ///< N = force_I + w force_C [N]
+      std::vector<double> gap_I, gap_C;     ///< g = gap_I + w gap_C [m]
+      std::vector<double> pressure_I, pressure_C; ///< p = M_surface^-1 N [Pa]
+      dealii::PETScWrappers::MPI::Vector u_I, u_C; ///< locally owned
+      bool   affine  = true; ///< false: valid only at w_fixed
+      double w_fixed = 0;
+      bool   valid   = false;
+    };
+
+    /// Result at one speed.
+    struct State
+    {
+      std::vector<bool>   active;
+      std::vector<double> force; ///< N_i >= 0 on closed pairs [N]
+      std::vector<double> gap;   ///< g_i [m]
+      std::vector<double> pressure; ///< p_i [Pa], from the surface mass matrix
+      unsigned int        active_set_iterations = 0;
+      unsigned int        uzawa_iterations      = 0;
+      unsigned int        factorizations        = 0;
+      unsigned int        held_closed           = 0; ///< by the cycling guard
+      bool                converged             = true;
+    };
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+
+    /**
+     * @p sparsity: pattern of K including the pair couplings; @p stiffness: K with the static constraints; @p unit_centrifugal_load:
+     * F_c per unit Omega^2; @p spin_softening_matrix: M_perp (used only when
+     * @p spin_softening); @p stiffness_diagonal: replicated diagonal of the
+     * unconstrained K (sets the penalties); @p w_max: largest Omega^2 of the
+     * sweep (scales the Uzawa tolerance of the centrifugal case).
+     */
+    void
+    initialize(const ContactPairs                               &pairs,
+               const dealii::AffineConstraints<double>          &constraints,
+               const dealii::DynamicSparsityPattern             &sparsity,
+               const dealii::PETScWrappers::MPI::SparseMatrix   &stiffness,
+               const dealii::PETScWrappers::MPI::Vector         &unit_centrifugal_load,
+               const dealii::PETScWrappers::MPI::SparseMatrix   *spin_softening_matrix,
+               const dealii::Vector<double>                     &stiffness_diagonal,
+               const dealii::IndexSet                           &owned,
+               const MPI_Comm                                    comm,
+               const double                                      w_max);
+
+    /// Contact state at w = Omega^2 [rad^2/s^2], continuing from the last one.
+    State
+    solve(const double w);
+
+    /// Decomposition behind the last solve() (for opening-speed predictions).
+    const Decomposition &
+    decomposition() const
+    {
+      return current;
+    }
+
+    /// Displacement at w of the last decomposition, ghosted (all DoFs).
+    void
+    displacement(const double w, dealii::PETScWrappers::MPI::Vector &u) const;
+
+    Method
+    method() const
+    {
+      return contact_method;
+    }
+
+    double
+    penalty_scale() const
+    {
+      return alpha;
+    }
+
+    const std::vector<double> &
+    penalties() const
+    {
+      return epsilon;
+    }
+
+    DirectSolver &
+    linear_solver()
+    {
+      return solver;
+    }
+
+    unsigned int
+    n_factorizations() const
+    {
+      return solver.n_factorizations();
+    }
+
+  private:
+    void
+    compute_decomposition(const std::vector<bool> &active, const double w);
+
+    /// Uzawa (or one penalty solve) for one load case; returns iterations.
+    unsigned int
+    solve_load_case(const dealii::PETScWrappers::MPI::Vector *base_load,
+                    const double                              load_factor,
+                    const bool                                with_interference,
+                    const double                              gap_scale,
+                    const std::vector<bool>                  &active,
+                    std::vector<double>                      &force,
+                    std::vector<double>                      &gap,
+                    dealii::PETScWrappers::MPI::Vector       &u);
+
+    Method       contact_method = Method::augmented_lagrangian;
+    double       alpha          = 10;
+    unsigned int max_active_set_iterations = 30;
+    unsigned int max_uzawa_iterations      = 100;
+    double       uzawa_tolerance           = 1e-8;
+
+    const ContactPairs                             *pairs       = nullptr;
+    const dealii::AffineConstraints<double>        *constraints = nullptr;
+    const dealii::PETScWrappers::MPI::SparseMatrix *K           = nullptr;
+    const dealii::PETScWrappers::MPI::Vector       *F_c         = nullptr;
+    const dealii::PETScWrappers::MPI::SparseMatrix *M_perp      = nullptr;
+    dealii::IndexSet                                owned, all_dofs;
+    MPI_Comm                                        comm;
+    double                                          w_max = 0;
+    unsigned int                                    this_rank = 0;
+
+    std::vector<double>                      epsilon;
+    std::vector<bool>                        owner_adds; // pair assembled here
+    dealii::PETScWrappers::MPI::SparseMatrix system_matrix;
+    DirectSolver                             solver;
+    Decomposition                            current;
+    unsigned int                             uzawa_count = 0;
+  };
+} // namespace rotorfit

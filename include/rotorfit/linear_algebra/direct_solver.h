@@ -1,0 +1,76 @@
+#pragma once
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <deal.II/lac/petsc_sparse_matrix.h>
+#include <deal.II/lac/petsc_vector.h>
+
+#include <petscksp.h>
+
+#include <string>
+
+namespace rotorfit
+{
+  /**
+   * Sparse direct solve through PETSc + MUMPS, distributed over the MPI
+   * ranks. factorize() once, then solve() any number of right-hand sides
+   * with back-substitutions only (Uzawa steps, load cases). Symmetric
+   * matrices use LDL^T (Cholesky mode, about half the time and memory of LU).
+   *
+   * Parameters: subsection "Linear solver".
+   */
+  class DirectSolver
+  {
+  public:
+    enum class Type
+    {
+      mumps_cholesky,
+      mumps_lu
+    };
+
+    DirectSolver() = default;
+    ~DirectSolver();
+    DirectSolver(const DirectSolver &) = delete;
+    DirectSolver &
+    operator=(const DirectSolver &) = delete;
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+
+    /// Factorise @p matrix (kept referenced until the next factorize()).
+    void
+    factorize(const dealii::PETScWrappers::MPI::SparseMatrix &matrix);
+
+    /// x = A^{-1} b with the current factorisation.
+    void
+    solve(dealii::PETScWrappers::MPI::Vector       &x,
+          const dealii::PETScWrappers::MPI::Vector &b) const;
+
+    unsigned int
+    n_factorizations() const
+    {
+      return factorizations;
+    }
+
+    unsigned int
+    n_solves() const
+    {
+      return solves;
+    }
+
+    std::string
+    name() const;
+
+  private:
+    void
+    destroy();
+
+    Type                 type = Type::mumps_cholesky;
+    KSP                  ksp  = nullptr;
+    unsigned int         factorizations = 0;
+    mutable unsigned int solves         = 0;
+  };
+} // namespace rotorfit

@@ -1,0 +1,79 @@
+#pragma once
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <string>
+#include <vector>
+
+namespace rotorfit
+{
+  /// One body of the assembly: a physical volume with its material.
+  struct Body
+  {
+    std::string name;
+    std::string physical_volume;
+    double      youngs_modulus; ///< E [Pa]
+    double      poissons_ratio; ///< nu [-]
+    double      density;        ///< rho [kg/m^3]
+
+    /// Lame's first parameter [Pa].
+    double
+    lambda() const
+    {
+      return youngs_modulus * poissons_ratio /
+             ((1. + poissons_ratio) * (1. - 2. * poissons_ratio));
+    }
+
+    /// Shear modulus [Pa].
+    double
+    mu() const
+    {
+      return youngs_modulus / (2. * (1. + poissons_ratio));
+    }
+  };
+
+  /**
+   * The bodies of the assembly, all rotating about z: top-level entry
+   * "Bodies" (names) and one subsection "Body <name>" per name. Body i has
+   * material_id i in the triangulation.
+   */
+  class Bodies
+  {
+  public:
+    /// Declare the list entry (first pass).
+    static void
+    declare_list(dealii::ParameterHandler &prm);
+
+    /// Declare one subsection per name (second pass).
+    static void
+    declare_parameters(dealii::ParameterHandler       &prm,
+                       const std::vector<std::string> &names);
+
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+
+    const std::vector<Body> &
+    list() const
+    {
+      return bodies;
+    }
+
+    const Body &
+    operator[](const unsigned int i) const
+    {
+      return bodies[i];
+    }
+
+    unsigned int
+    size() const
+    {
+      return bodies.size();
+    }
+
+    std::vector<std::string>
+    physical_volumes() const;
+
+  private:
+    std::vector<Body> bodies;
+  };
+} // namespace rotorfit

@@ -1,0 +1,142 @@
+#pragma once
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/point.h>
+
+#include <deal.II/distributed/shared_tria.h>
+
+#include <deal.II/dofs/dof_handler.h>
+
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/mapping_fe_field.h>
+
+#include <deal.II/lac/vector.h>
+
+#include <array>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace rotorfit
+{
+  /**
+   * The finite element mesh of an assembly of separate bodies that touch.
+   *
+   * The geometry (gmsh .geo, meshed in-process through the gmsh API, or a
+   * ready .msh) is read on rank 0 and broadcast. Every physical volume named
+   * by a body becomes one body (material_id = body index); vertices shared by
+   * two bodies are duplicated, one copy per body, so that each body is a
+   * separate mesh and the contact pairs can be built on the interface.
+   * Curved surfaces are represented to second order: gmsh's mid-edge nodes
+   * (placed on the CAD surfaces) define a quadratic position field used by a
+   * MappingFEField for every integral and support point.
+   *
+   * Parameters: subsection "Geometry".
+   */
+  class AssemblyMesh
+  {
+  public:
+    explicit AssemblyMesh(const MPI_Comm comm);
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+
+    /// @p prm_directory resolves a relative geometry file name.
+    void
+    parse_parameters(dealii::ParameterHandler &prm,
+                     const std::string        &prm_directory);
+
+    /**
+     * Mesh the geometry and build the triangulation. @p body_volumes are the
+     * physical volume names, body i gets material_id i. @p scratch_directory
+     * receives a small .geo wrapper that sets the geometry parameters.
+     */
+    void
+    create(const std::vector<std::string> &body_volumes,
+           const std::string              &scratch_directory);
+
+    dealii::parallel::shared::Triangulation<3> &
+    triangulation()
+    {
+      return tria;
+    }
+
+    const dealii::Mapping<3> &
+    mapping() const
+    {
+      return *mapping_ptr;
+    }
+
+    /// Polynomial degree of the displacement field (1 or 2).
+    unsigned int
+    element_order() const
+    {
+      return order;
+    }
+
+    /// Relative tolerance (times the radius) for pairing interface points.
+    double
+    matching_tolerance() const
+    {
+      return match_tol;
+    }
+
+    /// Whether face @p face_no of @p cell lies on the physical surface @p name.
+    bool
+    face_on_surface(const std::string                                 &name,
+                    const dealii::Triangulation<3>::cell_iterator &cell,
+                    const unsigned int face_no) const;
+
+    /// Throw an InputError naming @p entry if @p name is no physical surface.
+    void
+    check_surface_exists(const std::string &name,
+                         const std::string &entry) const;
+
+    const std::string &
+    geometry_file() const
+    {
+      return geometry_filename;
+    }
+
+  private:
+    struct GmshData
+    {
+      std::vector<std::size_t>                                  node_tags;
+      std::vector<double>                                       node_coords;
+      std::map<std::string, std::vector<std::size_t>>           volumes;
+      std::map<std::string, std::vector<std::size_t>>           surfaces;
+      unsigned int                                              nodes_per_tet = 0;
+      unsigned int                                              nodes_per_tri = 0;
+    };
+
+    GmshData
+    run_gmsh(const std::string &scratch_directory) const;
+
+    void
+    build_position_field(
+      const std::map<std::pair<std::size_t, std::size_t>, dealii::Point<3>>
+                                     &mid_nodes,
+      const std::vector<std::size_t> &vertex_to_tag);
+
+    void
+    check_jacobians() const;
+
+    MPI_Comm                                   comm;
+    dealii::parallel::shared::Triangulation<3> tria;
+
+    std::string                   geometry_filename;
+    std::map<std::string, double> geometry_parameters;
+    unsigned int                  order     = 2;
+    double                        match_tol = 1e-8;
+
+    dealii::FESystem<3>    position_fe;
+    dealii::DoFHandler<3>  position_dof_handler;
+    dealii::Vector<double> positions;
+    std::unique_ptr<dealii::MappingFEField<3, 3, dealii::Vector<double>>>
+      mapping_ptr;
+
+    std::map<std::string, std::set<std::array<unsigned int, 3>>> surfaces;
+  };
+} // namespace rotorfit

@@ -1,0 +1,323 @@
+#include <rotorfit/base/dof_utilities.h>
+#include <rotorfit/base/input_error.h>
+#include <rotorfit/contact/contact_pairs.h>
+#include <rotorfit/mesh/assembly_mesh.h>
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/utilities.h>
+
+#include <deal.II/fe/fe_values.h>
+
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+
+#include <algorithm>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace rotorfit
+{
+  using namespace dealii;
+
+  void
+  ContactInterfaces::declare_list(ParameterHandler &prm)
+  {
+    prm.declare_entry("Interfaces",
+                      "",
+                      Patterns::List(Patterns::Anything(), 0),
+                      "Names of the shrink-fit interfaces. Each needs a "
+                      "subsection 'Interface <name>'.");
+  }
+
+  void
+  ContactInterfaces::declare_parameters(ParameterHandler               &prm,
+                                        const std::vector<std::string> &names)
+  {
+    for (const auto &name : names)
+      {
+        prm.enter_subsection("Interface " + name);
+        prm.declare_entry("Shaft surface",
+                          "",
+                          Patterns::Anything(),
+                          "Physical surface on the shaft (inner) side of the "
+                          "fit. Mandatory.");
+        prm.declare_entry("Hub surface",
+                          "",
+                          Patterns::Anything(),
+                          "Physical surface on the hub (outer) side; may be the "
+                          "same surface as the shaft side when the geometry is "
+                          "fragmented. Mandatory.");
+        prm.declare_entry("Radial interference",
+                          "",
+                          Patterns::Anything(),
+                          "Interference on the radius (half the diametral "
+                          "interference) [m], > 0. Both bodies are meshed at "
+                          "the same nominal radius (numerical interference). "
+                          "Mandatory.");
+        prm.leave_subsection();
+      }
+  }
+
+  void
+  ContactInterfaces::parse_parameters(ParameterHandler &prm)
+  {
+    interfaces.clear();
+    for (const auto &name :
+         Utilities::split_string_list(prm.get("Interfaces"), ','))
+      {
+        prm.enter_subsection("Interface " + name);
+        InterfaceDefinition d;
+        d.name          = name;
+        d.shaft_surface = prm.get("Shaft surface");
+        d.hub_surface   = prm.get("Hub surface");
+        for (const std::string entry :
+             {"Shaft surface", "Hub surface", "Radial interference"})
+          if (prm.get(entry).empty())
+            throw InputError("Interface " + name + "/" + entry +
+                             " is not set; every interface needs Shaft "
+                             "surface, Hub surface and Radial interference.");
+        const std::string value = prm.get("Radial interference");
+        try
+          {
+            d.interference = Utilities::string_to_double(value);
+          }
+        catch (...)
+          {
+            throw InputError("Interface " + name + "/Radial interference = '" +
+                             value + "' is not a number; give it in metres.");
+          }
+        if (!(d.interference > 0))
+          throw InputError("Interface " + name + "/Radial interference = " +
+                           value +
+                           " m must be > 0 (a clearance fit has no contact "
+                           "at rest); give the interference on the radius.");
+        prm.leave_subsection();
+        interfaces.push_back(d);
+      }
+  }
+
+  namespace
+  {
+    struct SidePoint
+    {
+      Point<3>                               x;
+      std::array<types::global_dof_index, 2> dofs;
+    };
+
+    double
+    radius(const Point<3> &p)
+    {
+      return std::hypot(p[0], p[1]);
+    }
+  } // namespace
+
+  void
+  ContactPairs::build(const AssemblyMesh                     &mesh,
+                      const DoFHandler<3>                    &dof_handler,
+                      const std::vector<Point<3>>            &support_points,
+                      const std::vector<InterfaceDefinition> &interfaces)
+  {
+    pair_list.clear();
+    surfaces.clear();
+    surfaces.resize(interfaces.size());
+    const auto &fe = dof_handler.get_fe();
+
+    for (unsigned int f = 0; f < interfaces.size(); ++f)
+      {
+        const auto &def = interfaces[f];
+        mesh.check_surface_exists(def.shaft_surface,
+                                  "Interface " + def.name + "/Shaft surface");
+        mesh.check_surface_exists(def.hub_surface,
+                                  "Interface " + def.name + "/Hub surface");
+
+        // support points of each side, keyed by their x DoF; a face belongs
+        // to the shaft side if its cell lies inside it (smaller radius)
+        std::map<types::global_dof_index, SidePoint> side[2];
+        std::vector<std::vector<types::global_dof_index>> shaft_faces;
+        std::vector<typename DoFHandler<3>::active_cell_iterator> face_cells;
+        std::vector<unsigned int>                                 face_numbers;
+        std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          for (const unsigned int face_no : cell->face_indices())
+            if (cell->face(face_no)->at_boundary())
+              for (unsigned int s = 0; s < 2; ++s)
+                {
+                  const std::string &surface =
+                    (s == 0 ? def.shaft_surface : def.hub_surface);
+                  if (!mesh.face_on_surface(surface, cell, face_no))
+                    continue;
+                  const double r_face = radius(cell->face(face_no)->center());
+                  const double r_cell = radius(cell->center());
+                  if ((s == 0) != (r_cell < r_face))
+                    continue;
+                  cell->get_dof_indices(dofs);
+                  std::vector<types::global_dof_index> face_x_dofs;
+                  for (const unsigned int i : cell_dofs_on_face(cell, face_no))
+                    {
+                      const auto [c, k] = fe.system_to_component_index(i);
+                      if (c != 0)
+                        continue;
+                      const unsigned int iy = fe.component_to_system_index(1, k);
+                      side[s][dofs[i]] =
+                        SidePoint{support_points[dofs[i]], {{dofs[i], dofs[iy]}}};
+                      face_x_dofs.push_back(dofs[i]);
+                    }
+                  if (s == 0)
+                    {
+                      shaft_faces.push_back(face_x_dofs);
+                      face_cells.push_back(cell);
+                      face_numbers.push_back(face_no);
+                    }
+                }
+        for (unsigned int s = 0; s < 2; ++s)
+          if (side[s].empty())
+            throw InputError(
+              "Interface " + def.name + ": the physical surface '" +
+              (s == 0 ? def.shaft_surface : def.hub_surface) +
+              "' has no faces on the " + (s == 0 ? "shaft" : "hub") +
+              " side (" +
+              (s == 0 ? "body inside the surface" : "body outside the surface") +
+              "); the bodies do not touch there. Check the surface names.");
+
+        // pair by coordinates: sort the hub side by x and search a window
+        std::vector<SidePoint> hub;
+        for (const auto &[dof, p] : side[1])
+          hub.push_back(p);
+        std::sort(hub.begin(), hub.end(), [](const SidePoint &a, const SidePoint &b) {
+          return a.x[0] < b.x[0];
+        });
+        std::vector<bool>                              hub_used(hub.size(), false);
+        std::map<types::global_dof_index, unsigned int> pair_of_shaft_dof;
+        unsigned int                                   n_unmatched = 0;
+        Point<3>                                       first_unmatched;
+        for (const auto &[dof, p] : side[0])
+          {
+            const double tol = mesh.matching_tolerance() * std::max(radius(p.x), 1e-12);
+            auto lo = std::lower_bound(hub.begin(), hub.end(), p.x[0] - tol,
+                                       [](const SidePoint &a, const double v) {
+                                         return a.x[0] < v;
+                                       });
+            int match = -1;
+            for (auto it = lo; it != hub.end() && it->x[0] <= p.x[0] + tol; ++it)
+              if (it->x.distance(p.x) <= tol)
+                {
+                  match = it - hub.begin();
+                  break;
+                }
+            if (match < 0)
+              {
+                if (n_unmatched++ == 0)
+                  first_unmatched = p.x;
+                continue;
+              }
+            hub_used[match] = true;
+            ContactPair pair;
+            pair.interface    = f;
+            pair.shaft_dofs   = p.dofs;
+            pair.hub_dofs     = hub[match].dofs;
+            pair.position     = p.x;
+            const double r    = radius(p.x);
+            pair.normal       = Tensor<1, 3>({p.x[0] / r, p.x[1] / r, 0.});
+            pair.interference = def.interference;
+            pair_of_shaft_dof[dof] = surfaces[f].pairs.size();
+            surfaces[f].pairs.push_back(pair_list.size());
+            pair_list.push_back(pair);
+          }
+        for (unsigned int i = 0; i < hub.size(); ++i)
+          if (!hub_used[i] && n_unmatched++ == 0)
+            first_unmatched = hub[i].x;
+        if (n_unmatched > 0)
+          {
+            std::ostringstream s;
+            s << "Interface " << def.name << ": " << n_unmatched << " of "
+              << side[0].size() + side[1].size()
+              << " support points on '" << def.shaft_surface << "'/'"
+              << def.hub_surface
+              << "' have no coincident partner on the other body (first at ("
+              << first_unmatched
+              << ") m). Both bodies must carry coincident nodes on the fit: "
+                 "mesh them together (gmsh BooleanFragments) or raise "
+                 "Geometry/Interface matching tolerance.";
+            throw InputError(s.str());
+          }
+
+        // consistent surface mass matrix on the shaft side, pair numbering
+        Surface &surface = surfaces[f];
+        const unsigned int n = surface.pairs.size();
+        DynamicSparsityPattern dsp(n, n);
+        for (const auto &face : shaft_faces)
+          for (const auto i : face)
+            for (const auto j : face)
+              dsp.add(pair_of_shaft_dof[i], pair_of_shaft_dof[j]);
+        surface.pattern.copy_from(dsp);
+        surface.mass.reinit(surface.pattern);
+
+        const QGaussSimplex<2> face_quadrature(3);
+        FEFaceValues<3>        fe_face(mesh.mapping(),
+                                fe,
+                                face_quadrature,
+                                update_values | update_JxW_values);
+        for (unsigned int k = 0; k < shaft_faces.size(); ++k)
+          {
+            fe_face.reinit(face_cells[k], face_numbers[k]);
+            face_cells[k]->get_dof_indices(dofs);
+            std::vector<std::pair<unsigned int, unsigned int>> local; // (cell dof, pair)
+            for (const unsigned int i : cell_dofs_on_face(face_cells[k], face_numbers[k]))
+              if (fe.system_to_component_index(i).first == 0)
+                local.emplace_back(i, pair_of_shaft_dof[dofs[i]]);
+            double a = 0;
+            for (unsigned int q = 0; q < face_quadrature.size(); ++q)
+              {
+                a += fe_face.JxW(q);
+                for (const auto &[i, pi] : local)
+                  for (const auto &[j, pj] : local)
+                    surface.mass.add(pi,
+                                     pj,
+                                     fe_face.shape_value(i, q) *
+                                       fe_face.shape_value(j, q) *
+                                       fe_face.JxW(q));
+              }
+            std::vector<unsigned int> face_pairs;
+            for (const auto &l : local)
+              face_pairs.push_back(l.second);
+            surface.faces.push_back(face_pairs);
+            surface.face_area.push_back(a);
+            surface.area += a;
+          }
+        surface.inverse = std::make_shared<SparseDirectUMFPACK>();
+        surface.inverse->initialize(surface.mass);
+      }
+  }
+
+  double
+  ContactPairs::closed_area(const unsigned int       i,
+                            const std::vector<bool> &closed) const
+  {
+    const Surface &s = surfaces[i];
+    double         a = 0;
+    for (unsigned int k = 0; k < s.faces.size(); ++k)
+      {
+        unsigned int n = 0;
+        for (const auto p : s.faces[k])
+          n += closed[s.pairs[p]];
+        a += s.face_area[k] * n / s.faces[k].size();
+      }
+    return a;
+  }
+
+  std::vector<double>
+  ContactPairs::pressure(const std::vector<double> &force) const
+  {
+    std::vector<double> p(force.size(), 0.);
+    for (const auto &s : surfaces)
+      {
+        Vector<double> rhs(s.pairs.size()), sol(s.pairs.size());
+        for (unsigned int k = 0; k < s.pairs.size(); ++k)
+          rhs[k] = force[s.pairs[k]];
+        s.inverse->vmult(sol, rhs);
+        for (unsigned int k = 0; k < s.pairs.size(); ++k)
+          p[s.pairs[k]] = sol[k];
+      }
+    return p;
+  }
+} // namespace rotorfit

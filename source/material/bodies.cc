@@ -1,0 +1,105 @@
+#include <rotorfit/base/input_error.h>
+#include <rotorfit/material/bodies.h>
+
+#include <deal.II/base/utilities.h>
+
+#include <set>
+
+namespace rotorfit
+{
+  using namespace dealii;
+
+  void
+  Bodies::declare_list(ParameterHandler &prm)
+  {
+    prm.declare_entry("Bodies",
+                      "",
+                      Patterns::List(Patterns::Anything(), 0),
+                      "Names of the bodies, e.g. 'shaft, sleeve'. Each needs a "
+                      "subsection 'Body <name>'.");
+  }
+
+  void
+  Bodies::declare_parameters(ParameterHandler               &prm,
+                             const std::vector<std::string> &names)
+  {
+    for (const auto &name : names)
+      {
+        prm.enter_subsection("Body " + name);
+        prm.declare_entry("Physical volume",
+                          name,
+                          Patterns::Anything(),
+                          "Name of the gmsh physical volume that is this "
+                          "body (default: the body's name).");
+        prm.declare_entry("Young's modulus",
+                          "",
+                          Patterns::Anything(),
+                          "E [Pa], > 0. Mandatory.");
+        prm.declare_entry("Poisson's ratio",
+                          "",
+                          Patterns::Anything(),
+                          "nu [-], in (-1, 0.5). Mandatory.");
+        prm.declare_entry("Density",
+                          "",
+                          Patterns::Anything(),
+                          "rho [kg/m^3], > 0. Mandatory.");
+        prm.leave_subsection();
+      }
+  }
+
+  void
+  Bodies::parse_parameters(ParameterHandler &prm)
+  {
+    bodies.clear();
+    const auto names = Utilities::split_string_list(prm.get("Bodies"), ',');
+    std::set<std::string> seen;
+    for (const auto &name : names)
+      {
+        if (!seen.insert(name).second)
+          throw InputError("Bodies: the name '" + name +
+                           "' appears twice; give each body once.");
+        prm.enter_subsection("Body " + name);
+        Body b;
+        b.name            = name;
+        b.physical_volume = prm.get("Physical volume");
+        for (const std::string entry :
+             {"Young's modulus", "Poisson's ratio", "Density"})
+          if (prm.get(entry).empty())
+            throw InputError("Body " + name + "/" + entry +
+                             " is not set; every body needs Young's modulus, "
+                             "Poisson's ratio and Density.");
+        const auto number = [&](const std::string &entry) {
+          try
+            {
+              return Utilities::string_to_double(prm.get(entry));
+            }
+          catch (...)
+            {
+              throw InputError("Body " + name + "/" + entry + " = '" +
+                               prm.get(entry) + "' is not a number.");
+            }
+        };
+        b.youngs_modulus = number("Young's modulus");
+        b.poissons_ratio = number("Poisson's ratio");
+        b.density        = number("Density");
+        if (!(b.youngs_modulus > 0) || !(b.density > 0))
+          throw InputError("Body " + name +
+                           ": Young's modulus and Density must be > 0.");
+        if (!(b.poissons_ratio > -1. && b.poissons_ratio < 0.5))
+          throw InputError("Body " + name + "/Poisson's ratio = " +
+                           prm.get("Poisson's ratio") +
+                           " must lie in (-1, 0.5).");
+        prm.leave_subsection();
+        bodies.push_back(b);
+      }
+  }
+
+  std::vector<std::string>
+  Bodies::physical_volumes() const
+  {
+    std::vector<std::string> v;
+    for (const auto &b : bodies)
+      v.push_back(b.physical_volume);
+    return v;
+  }
+} // namespace rotorfit

@@ -1,0 +1,491 @@
+#include <rotorfit/base/input_error.h>
+#include <rotorfit/mesh/assembly_mesh.h>
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/utilities.h>
+
+#include <deal.II/fe/fe_simplex_p.h>
+#include <deal.II/fe/fe_values.h>
+
+#include <deal.II/grid/reference_cell.h>
+#include <deal.II/grid/tria_description.h>
+
+#include <gmsh.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+namespace rotorfit
+{
+  using namespace dealii;
+
+  AssemblyMesh::AssemblyMesh(const MPI_Comm comm)
+    : comm(comm)
+    , tria(comm)
+    , position_fe(FE_SimplexP<3>(2), 3)
+  {}
+
+  void
+  AssemblyMesh::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Geometry");
+    prm.declare_entry("Geometry file",
+                      "",
+                      Patterns::FileName(),
+                      "gmsh geometry (.geo, meshed here through the gmsh API) "
+                      "or ready mesh (.msh). Relative names are taken from "
+                      "the directory of the parameter file. Bodies are "
+                      "physical volumes, interfaces and supports physical "
+                      "surfaces.");
+    prm.declare_entry("Geometry parameters",
+                      "",
+                      Patterns::Map(Patterns::Anything(), Patterns::Double()),
+                      "Numbers handed to the .geo file before it is read, as "
+                      "'name: value, ...' [SI units, m for sizes]; the .geo "
+                      "must declare each with DefineConstant. The shipped "
+                      "geometries use h_fit (element size at the fit) and "
+                      "h_max (largest element size).");
+    prm.declare_entry("Element order",
+                      "2",
+                      Patterns::Integer(1, 2),
+                      "Polynomial degree of the displacement field on the "
+                      "tetrahedra (1 or 2). The geometry is always quadratic.");
+    prm.declare_entry("Interface matching tolerance",
+                      "1e-8",
+                      Patterns::Double(0.),
+                      "Two interface support points are a pair if they are "
+                      "closer than this times their radius [-].");
+    prm.leave_subsection();
+  }
+
+  void
+  AssemblyMesh::parse_parameters(ParameterHandler &prm,
+                                 const std::string &prm_directory)
+  {
+    prm.enter_subsection("Geometry");
+    geometry_filename = prm.get("Geometry file");
+    if (geometry_filename.empty())
+      throw InputError("Geometry/Geometry file is not set; give a .geo or "
+                       ".msh file.");
+    std::filesystem::path p(geometry_filename);
+    if (p.is_relative())
+      p = std::filesystem::path(prm_directory) / p;
+    geometry_filename = p.lexically_normal().string();
+    if (!std::filesystem::exists(geometry_filename))
+      throw InputError("Geometry/Geometry file: the file '" +
+                       geometry_filename +
+                       "' does not exist; check the name (relative names are "
+                       "taken from the parameter file's directory).");
+    const std::string ext = p.extension().string();
+    if (ext != ".geo" && ext != ".msh")
+      throw InputError("Geometry/Geometry file = '" + geometry_filename +
+                       "': the extension must be .geo or .msh.");
+
+    geometry_parameters.clear();
+    for (const auto &item :
+         Utilities::split_string_list(prm.get("Geometry parameters"), ','))
+      {
+        const auto kv = Utilities::split_string_list(item, ':');
+        geometry_parameters[kv[0]] = Utilities::string_to_double(kv[1]);
+        if (!std::regex_match(kv[0], std::regex("[A-Za-z_][A-Za-z0-9_]*")))
+          throw InputError("Geometry/Geometry parameters: '" + kv[0] +
+                           "' is not a valid gmsh variable name.");
+      }
+    if (!geometry_parameters.empty())
+      {
+        if (ext != ".geo")
+          throw InputError("Geometry/Geometry parameters are set but '" +
+                           geometry_filename +
+                           "' is a ready mesh (.msh); remove them or give "
+                           "the .geo file.");
+        std::ifstream     in(geometry_filename);
+        std::stringstream text;
+        text << in.rdbuf();
+        for (const auto &[name, value] : geometry_parameters)
+          if (!std::regex_search(text.str(),
+                                 std::regex("\\b" + name + "\\b")))
+            throw InputError("Geometry/Geometry parameters: '" + name +
+                             "' does not occur in '" + geometry_filename +
+                             "'; check the spelling (it must be declared "
+                             "there with DefineConstant).");
+      }
+    order     = prm.get_integer("Element order");
+    match_tol = prm.get_double("Interface matching tolerance");
+    prm.leave_subsection();
+  }
+
+  AssemblyMesh::GmshData
+  AssemblyMesh::run_gmsh(const std::string &scratch_directory) const
+  {
+    GmshData data;
+    gmsh::initialize();
+    gmsh::option::setNumber("General.Terminal", 0);
+    gmsh::option::setNumber("General.Verbosity", 2);
+    try
+      {
+        std::string file = geometry_filename;
+        const bool  is_geo =
+          std::filesystem::path(file).extension().string() == ".geo";
+        if (is_geo && !geometry_parameters.empty())
+          {
+            // The .geo's DefineConstant keeps values defined before it.
+            file = scratch_directory + "/geometry_with_parameters.geo";
+            std::ofstream out(file);
+            out.precision(17);
+            for (const auto &[name, value] : geometry_parameters)
+              out << name << " = " << value << ";\n";
+            out << "Include \""
+                << std::filesystem::absolute(geometry_filename).string()
+                << "\";\n";
+          }
+        gmsh::open(file);
+        if (is_geo)
+          gmsh::model::mesh::generate(3);
+        // quadratic geometry always: gmsh puts mid-edge nodes on the CAD
+        gmsh::model::mesh::setOrder(2);
+
+        std::vector<double> parametric;
+        gmsh::model::mesh::getNodes(data.node_tags,
+                                    data.node_coords,
+                                    parametric,
+                                    -1,
+                                    -1,
+                                    false,
+                                    false);
+
+        gmsh::vectorpair groups;
+        gmsh::model::getPhysicalGroups(groups);
+        for (const auto &[dim, tag] : groups)
+          {
+            if (dim != 2 && dim != 3)
+              continue;
+            std::string name;
+            gmsh::model::getPhysicalName(dim, tag, name);
+            if (name.empty())
+              name = std::to_string(tag);
+            std::vector<int> entities;
+            gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities);
+            auto &list = (dim == 3 ? data.volumes[name] : data.surfaces[name]);
+            for (const int e : entities)
+              {
+                std::vector<int>                      types;
+                std::vector<std::vector<std::size_t>> element_tags, nodes;
+                gmsh::model::mesh::getElements(
+                  types, element_tags, nodes, dim, e);
+                for (unsigned int t = 0; t < types.size(); ++t)
+                  {
+                    const int expected = (dim == 3 ? 11 : 9); // tet10, tri6
+                    if (types[t] != expected)
+                      throw InputError(
+                        "Geometry/Geometry file '" + geometry_filename +
+                        "': physical " +
+                        std::string(dim == 3 ? "volume" : "surface") + " '" +
+                        name +
+                        "' holds elements other than tetrahedra/triangles "
+                        "(gmsh type " +
+                        std::to_string(types[t]) +
+                        "); rotorfit reads simplex meshes.");
+                    list.insert(list.end(), nodes[t].begin(), nodes[t].end());
+                  }
+              }
+          }
+        data.nodes_per_tet = 10;
+        data.nodes_per_tri = 6;
+      }
+    catch (const InputError &)
+      {
+        gmsh::finalize();
+        throw;
+      }
+    catch (const std::exception &e)
+      {
+        gmsh::finalize();
+        throw InputError("Geometry/Geometry file '" + geometry_filename +
+                         "': gmsh failed: " + e.what());
+      }
+    catch (...)
+      {
+        gmsh::finalize();
+        throw InputError("Geometry/Geometry file '" + geometry_filename +
+                         "': gmsh failed; run 'gmsh -3 " + geometry_filename +
+                         "' to see its messages.");
+      }
+    gmsh::finalize();
+    if (data.volumes.empty())
+      throw InputError("Geometry/Geometry file '" + geometry_filename +
+                       "' has no meshed physical volumes; declare one "
+                       "Physical Volume per body.");
+    return data;
+  }
+
+  void
+  AssemblyMesh::create(const std::vector<std::string> &body_volumes,
+                       const std::string              &scratch_directory)
+  {
+    // mesh on rank 0 only, then broadcast: gmsh is serial and every rank
+    // must see exactly the same mesh
+    GmshData    data;
+    std::string error;
+    if (Utilities::MPI::this_mpi_process(comm) == 0)
+      {
+        try
+          {
+            data = run_gmsh(scratch_directory);
+          }
+        catch (const InputError &e)
+          {
+            error = e.what();
+          }
+      }
+    error = Utilities::MPI::broadcast(comm, error, 0);
+    if (!error.empty())
+      throw InputError(error);
+    data.node_tags     = Utilities::MPI::broadcast(comm, data.node_tags, 0);
+    data.node_coords   = Utilities::MPI::broadcast(comm, data.node_coords, 0);
+    data.volumes       = Utilities::MPI::broadcast(comm, data.volumes, 0);
+    data.surfaces      = Utilities::MPI::broadcast(comm, data.surfaces, 0);
+    data.nodes_per_tet = Utilities::MPI::broadcast(comm, data.nodes_per_tet, 0);
+    data.nodes_per_tri = Utilities::MPI::broadcast(comm, data.nodes_per_tri, 0);
+
+    std::map<std::size_t, Point<3>> node_position;
+    for (unsigned int i = 0; i < data.node_tags.size(); ++i)
+      node_position[data.node_tags[i]] = Point<3>(data.node_coords[3 * i],
+                                                  data.node_coords[3 * i + 1],
+                                                  data.node_coords[3 * i + 2]);
+
+    // unknown physical volumes are errors that list what the file has
+    for (const auto &name : body_volumes)
+      if (data.volumes.count(name) == 0)
+        {
+          std::string known;
+          for (const auto &v : data.volumes)
+            known += (known.empty() ? "" : ", ") + v.first;
+          throw InputError("Physical volume '" + name +
+                           "' (a body's 'Physical volume') is not in '" +
+                           geometry_filename + "'; it has: " + known + ".");
+        }
+
+    std::vector<Point<3>>    vertices;
+    std::vector<std::size_t> vertex_to_tag;
+    std::vector<CellData<3>> cells;
+    std::vector<std::map<std::size_t, unsigned int>> body_vertex(
+      body_volumes.size());
+    std::map<std::pair<std::size_t, std::size_t>, Point<3>> mid_nodes;
+
+    for (unsigned int b = 0; b < body_volumes.size(); ++b)
+      {
+        const auto &nodes = data.volumes[body_volumes[b]];
+        const unsigned int npe = data.nodes_per_tet;
+        for (std::size_t e = 0; e < nodes.size() / npe; ++e)
+          {
+            std::array<std::size_t, 4> v;
+            for (unsigned int i = 0; i < 4; ++i)
+              v[i] = nodes[e * npe + i];
+            const Tensor<1, 3> a = node_position[v[1]] - node_position[v[0]];
+            const Tensor<1, 3> c = node_position[v[2]] - node_position[v[0]];
+            const Tensor<1, 3> d = node_position[v[3]] - node_position[v[0]];
+            if (cross_product_3d(a, c) * d < 0)
+              std::swap(v[1], v[2]);
+
+            CellData<3> cell(4);
+            for (unsigned int i = 0; i < 4; ++i)
+              {
+                auto it = body_vertex[b].find(v[i]);
+                if (it == body_vertex[b].end())
+                  {
+                    it = body_vertex[b].emplace(v[i], vertices.size()).first;
+                    vertices.push_back(node_position[v[i]]);
+                    vertex_to_tag.push_back(v[i]);
+                  }
+                cell.vertices[i] = it->second;
+              }
+            cell.material_id = b;
+            cells.push_back(cell);
+
+            // mid-edge nodes: identify the edge of each by proximity (robust
+            // against the element's node ordering convention)
+            for (unsigned int m = 4; m < npe; ++m)
+              {
+                const Point<3> &x = node_position[nodes[e * npe + m]];
+                double          best = 1e300;
+                std::pair<std::size_t, std::size_t> key;
+                for (unsigned int i = 0; i < 4; ++i)
+                  for (unsigned int j = i + 1; j < 4; ++j)
+                    {
+                      const double dist =
+                        x.distance(0.5 * (node_position[v[i]] +
+                                          Tensor<1, 3>(node_position[v[j]])));
+                      if (dist < best)
+                        {
+                          best = dist;
+                          key  = {std::min(v[i], v[j]), std::max(v[i], v[j])};
+                        }
+                    }
+                mid_nodes[key] = x;
+              }
+          }
+        if (nodes.empty())
+          throw InputError("Physical volume '" + body_volumes[b] +
+                           "' has no tetrahedra in '" + geometry_filename +
+                           "'.");
+      }
+
+    tria.create_triangulation(vertices, cells, SubCellData());
+
+    // physical surfaces, once per body whose copy of the nodes they touch
+    surfaces.clear();
+    for (const auto &[name, nodes] : data.surfaces)
+      {
+        auto &set = surfaces[name];
+        for (std::size_t e = 0; e < nodes.size() / data.nodes_per_tri; ++e)
+          for (unsigned int b = 0; b < body_volumes.size(); ++b)
+            {
+              std::array<unsigned int, 3> key;
+              bool                        all = true;
+              for (unsigned int i = 0; i < 3; ++i)
+                {
+                  const auto it =
+                    body_vertex[b].find(nodes[e * data.nodes_per_tri + i]);
+                  if (it == body_vertex[b].end())
+                    {
+                      all = false;
+                      break;
+                    }
+                  key[i] = it->second;
+                }
+              if (all)
+                {
+                  std::sort(key.begin(), key.end());
+                  set.insert(key);
+                }
+            }
+      }
+
+    build_position_field(mid_nodes, vertex_to_tag);
+    check_jacobians();
+  }
+
+  void
+  AssemblyMesh::build_position_field(
+    const std::map<std::pair<std::size_t, std::size_t>, Point<3>> &mid_nodes,
+    const std::vector<std::size_t> &vertex_to_tag)
+  {
+    position_dof_handler.reinit(tria);
+    position_dof_handler.distribute_dofs(position_fe);
+    positions.reinit(position_dof_handler.n_dofs());
+
+    const auto &unit_points = position_fe.base_element(0).get_unit_support_points();
+    const auto  ref         = ReferenceCells::Tetrahedron;
+    std::vector<std::array<int, 2>> node_of(unit_points.size());
+    for (unsigned int k = 0; k < unit_points.size(); ++k)
+      {
+        node_of[k] = {-1, -1};
+        for (unsigned int i = 0; i < 4; ++i)
+          {
+            if (unit_points[k].distance(ref.vertex<3>(i)) < 1e-12)
+              node_of[k] = {static_cast<int>(i), -1};
+            for (unsigned int j = i + 1; j < 4; ++j)
+              if (unit_points[k].distance(
+                    0.5 * (ref.vertex<3>(i) + Tensor<1, 3>(ref.vertex<3>(j)))) <
+                  1e-12)
+                node_of[k] = {static_cast<int>(i), static_cast<int>(j)};
+          }
+        AssertThrow(node_of[k][0] >= 0, ExcInternalError());
+      }
+
+    std::vector<types::global_dof_index> dofs(position_fe.n_dofs_per_cell());
+    for (const auto &cell : position_dof_handler.active_cell_iterators())
+      {
+        cell->get_dof_indices(dofs);
+        for (unsigned int i = 0; i < dofs.size(); ++i)
+          {
+            const auto [c, k] = position_fe.system_to_component_index(i);
+            const auto [a, b] = node_of[k];
+            Point<3> x;
+            if (b < 0)
+              x = cell->vertex(a);
+            else
+              {
+                const std::size_t ta = vertex_to_tag[cell->vertex_index(a)];
+                const std::size_t tb = vertex_to_tag[cell->vertex_index(b)];
+                const auto it = mid_nodes.find({std::min(ta, tb), std::max(ta, tb)});
+                x = (it != mid_nodes.end()) ?
+                      it->second :
+                      0.5 * (cell->vertex(a) + Tensor<1, 3>(cell->vertex(b)));
+              }
+            positions[dofs[i]] = x[c];
+          }
+      }
+    mapping_ptr =
+      std::make_unique<MappingFEField<3, 3, Vector<double>>>(position_dof_handler,
+                                                              positions);
+  }
+
+  void
+  AssemblyMesh::check_jacobians() const
+  {
+    const QGaussSimplex<3> quadrature(3);
+    FEValues<3>            fe_values(*mapping_ptr,
+                          position_fe,
+                          quadrature,
+                          update_jacobians | update_quadrature_points);
+    std::string error;
+    for (const auto &cell : position_dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned() && error.empty())
+        {
+          fe_values.reinit(cell);
+          for (unsigned int q = 0; q < quadrature.size(); ++q)
+            if (!(determinant(Tensor<2, 3>(fe_values.jacobian(q))) > 0))
+              {
+                std::ostringstream s;
+                s << "Geometry/Geometry file '" << geometry_filename
+                  << "': a curved tetrahedron of body number "
+                  << cell->material_id() << " near point ("
+                  << fe_values.quadrature_point(q)
+                  << ") is inverted (negative Jacobian); use a smaller "
+                     "element size there (h_fit/h_max).";
+                error = s.str();
+                break;
+              }
+        }
+    // every rank must throw, or the others wait forever
+    for (const auto &e : Utilities::MPI::all_gather(comm, error))
+      if (!e.empty())
+        throw InputError(e);
+  }
+
+  bool
+  AssemblyMesh::face_on_surface(const std::string                  &name,
+                                const Triangulation<3>::cell_iterator &cell,
+                                const unsigned int face_no) const
+  {
+    const auto it = surfaces.find(name);
+    if (it == surfaces.end())
+      return false;
+    const auto                  face = cell->face(face_no);
+    std::array<unsigned int, 3> key{{face->vertex_index(0),
+                                     face->vertex_index(1),
+                                     face->vertex_index(2)}};
+    std::sort(key.begin(), key.end());
+    return it->second.count(key) > 0;
+  }
+
+  void
+  AssemblyMesh::check_surface_exists(const std::string &name,
+                                     const std::string &entry) const
+  {
+    if (surfaces.count(name) == 0 || surfaces.at(name).empty())
+      {
+        std::string known;
+        for (const auto &s : surfaces)
+          known += (known.empty() ? "" : ", ") + s.first;
+        throw InputError(entry + " = '" + name +
+                         "' is not a physical surface of '" +
+                         geometry_filename + "'; it has: " + known + ".");
+      }
+  }
+} // namespace rotorfit

@@ -1,0 +1,102 @@
+#include <rotorfit/base/input_error.h>
+#include <rotorfit/statics/speed_schedule.h>
+
+#include <deal.II/base/utilities.h>
+
+#include <cmath>
+#include <deal.II/base/numbers.h>
+#include <sstream>
+
+namespace rotorfit
+{
+  using namespace dealii;
+
+  void
+  SpeedSchedule::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Speeds");
+    prm.declare_entry("Mode",
+                      "range",
+                      Patterns::Selection("range|list"),
+                      "How the spin speeds are given: 'range' uses Start, End "
+                      "and Step; 'list' uses List.");
+    prm.declare_entry("Start", "0", Patterns::Double(), "First speed [r/min].");
+    prm.declare_entry("End", "30000", Patterns::Double(), "Last speed [r/min].");
+    prm.declare_entry("Step",
+                      "1000",
+                      Patterns::Double(),
+                      "Speed increment [r/min], > 0.");
+    prm.declare_entry("List",
+                      "",
+                      Patterns::List(Patterns::Double(), 0),
+                      "Explicit speeds [r/min], strictly increasing, >= 0 "
+                      "(used when Mode = list).");
+    prm.leave_subsection();
+  }
+
+  void
+  SpeedSchedule::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Speeds");
+    speeds.clear();
+    if (prm.get("Mode") == "range")
+      {
+        const double start = prm.get_double("Start");
+        const double end   = prm.get_double("End");
+        const double step  = prm.get_double("Step");
+        if (start < 0)
+          throw InputError("Speeds/Start = " + prm.get("Start") +
+                           " r/min is negative; give a speed >= 0.");
+        if (!(step > 0))
+          throw InputError("Speeds/Step = " + prm.get("Step") +
+                           " r/min must be > 0; give a positive increment.");
+        if (end < start)
+          throw InputError("Speeds/End = " + prm.get("End") +
+                           " r/min is below Speeds/Start = " +
+                           prm.get("Start") +
+                           " r/min; give End >= Start.");
+        const unsigned int n =
+          static_cast<unsigned int>(std::floor((end - start) / step + 1e-9));
+        if (n > 100000)
+          throw InputError("Speeds: Start/End/Step give " + std::to_string(n) +
+                           " speeds; use a larger Step.");
+        for (unsigned int i = 0; i <= n; ++i)
+          speeds.push_back(start + i * step);
+        // include End if the step does not land on it
+        if (end - speeds.back() > 1e-9 * std::max(1.0, end))
+          speeds.push_back(end);
+      }
+    else
+      {
+        const auto items =
+          Utilities::split_string_list(prm.get("List"), ',');
+        if (items.empty())
+          throw InputError("Speeds/List is empty while Speeds/Mode = list; "
+                           "give at least one speed.");
+        for (const auto &s : items)
+          speeds.push_back(Utilities::string_to_double(s));
+        for (unsigned int i = 0; i < speeds.size(); ++i)
+          {
+            if (speeds[i] < 0)
+              throw InputError("Speeds/List has the negative speed " +
+                               items[i] + " r/min; give speeds >= 0.");
+            if (i > 0 && !(speeds[i] > speeds[i - 1]))
+              throw InputError("Speeds/List is not strictly increasing at " +
+                               items[i] + " r/min; sort the list.");
+          }
+      }
+    prm.leave_subsection();
+  }
+
+  double
+  SpeedSchedule::rpm_to_rad_per_s(const double rpm)
+  {
+    return rpm * 2. * numbers::PI / 60.;
+  }
+
+  double
+  SpeedSchedule::rad_per_s_to_rpm(const double omega)
+  {
+    return omega * 60. / (2. * numbers::PI);
+  }
+} // namespace rotorfit

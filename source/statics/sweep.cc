@@ -1,0 +1,259 @@
+#include <rotorfit/statics/static_problem.h>
+
+#include <deal.II/base/mpi.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+
+namespace rotorfit
+{
+  using namespace dealii;
+
+  namespace
+  {
+    constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+    constexpr double inf = std::numeric_limits<double>::infinity();
+
+    /// Speed [r/min] at which a pair with p = p_I + w p_C reaches p = 0.
+    double
+    opening_rpm(const double n_i, const double n_c)
+    {
+      if (!(n_c < 0))
+        return inf;
+      if (!(n_i > 0))
+        return 0;
+      return SpeedSchedule::rad_per_s_to_rpm(std::sqrt(-n_i / n_c));
+    }
+
+    std::string
+    format(const double x)
+    {
+      std::ostringstream s;
+      s << std::setprecision(8) << x;
+      return s.str();
+    }
+  } // namespace
+
+  void
+  StaticProblem::sweep()
+  {
+    const bool         root = Utilities::MPI::this_mpi_process(comm) == 0;
+    const auto        &rpm  = speeds.speeds_rpm();
+    const auto        &list = pairs.pairs();
+    const unsigned int n_if = pairs.n_interfaces();
+
+    std::ofstream table, openings;
+    if (root)
+      {
+        table.open(output_dir + "/contact.csv");
+        table << "speed_rpm,interface,closed_pairs,total_pairs,contact_fraction,"
+                 "mean_pressure_Pa,max_pressure_Pa,constraint_error,"
+                 "active_set_iterations,uzawa_iterations,factorizations,"
+                 "converged,first_opening_rpm,loss_of_fit_rpm\n"
+              << std::setprecision(8) << std::flush;
+        openings.open(output_dir + "/pair_openings.csv");
+        openings << "interface,x_m,y_m,z_m,opening_rpm,from_rpm,to_rpm\n"
+                 << std::setprecision(8) << std::flush;
+      }
+
+    std::vector<double> first_open(n_if, nan), loss_of_fit(n_if, nan);
+    std::vector<bool>   fully_open(n_if, false);
+    std::vector<double> mean_p0(n_if, nan), max_p0(n_if, nan), worst_error(n_if, 0.);
+    std::vector<bool>   prev_active;
+    std::vector<double> prev_I, prev_C;
+    bool                prev_affine = false;
+    unsigned int        total_uzawa = 0;
+    const auto          start       = std::chrono::steady_clock::now();
+    unsigned int        steps_done  = 0;
+
+    for (unsigned int k = 0; k < rpm.size(); ++k)
+      {
+        const double               w = std::pow(SpeedSchedule::rpm_to_rad_per_s(rpm[k]), 2);
+        ContactSolver::State       state;
+        std::vector<double>        pressure;
+        {
+          TimerOutput::Scope t(*timer, "contact solve");
+          state    = contact.solve(w);
+          pressure = state.pressure;
+        }
+        total_uzawa += state.uzawa_iterations;
+        const auto &d = contact.decomposition();
+
+        std::ostringstream progress;
+        for (unsigned int f = 0; f < n_if; ++f)
+          {
+            const auto  &ids = pairs.pairs_of(f);
+            unsigned int closed = 0;
+            double       force = 0, p_max = 0, error = 0;
+            double       pred_first = inf, pred_last = 0;
+            for (const auto i : ids)
+              if (state.active[i])
+                {
+                  ++closed;
+                  force += pressure[i];
+                  p_max = std::max(p_max, pressure[i]);
+                  error = std::max(error, std::abs(state.gap[i]) / list[i].interference);
+                  const double o = d.affine ? opening_rpm(d.pressure_I[i], d.pressure_C[i]) : nan;
+                  pred_first = std::min(pred_first, o);
+                  pred_last  = std::max(pred_last, o);
+                }
+            if (!d.affine || closed == 0)
+              pred_first = pred_last = nan;
+            const double area    = pairs.closed_area(f, state.active);
+            // mean of the (smooth) pressure field over the closed pairs
+            const double p_mean  = closed > 0 ? force / closed : 0.;
+            const double fraction = area / pairs.area(f);
+            worst_error[f] = std::max(worst_error[f], error);
+            if (k == 0)
+              {
+                mean_p0[f] = p_mean;
+                max_p0[f]  = p_max;
+              }
+
+            // pairs that opened since the previous speed: their opening speed
+            // from the previous active set's affine law (exact for the first)
+            if (k > 0)
+              {
+                double first_now = inf, last_now = 0;
+                for (const auto i : ids)
+                  if (prev_active[i] && !state.active[i])
+                    {
+                      double o = prev_affine ? opening_rpm(prev_I[i], prev_C[i]) : nan;
+                      if (!std::isnan(o))
+                        o = std::min(std::max(o, rpm[k - 1]), rpm[k]);
+                      first_now = std::min(first_now, o);
+                      last_now  = std::max(last_now, o);
+                      if (root)
+                        openings << interfaces.list()[f].name << ','
+                                 << list[i].position[0] << ',' << list[i].position[1]
+                                 << ',' << list[i].position[2] << ',' << o << ','
+                                 << rpm[k - 1] << ',' << rpm[k] << '\n';
+                    }
+                if (std::isnan(first_open[f]) && first_now < inf)
+                  first_open[f] = first_now;
+                if (closed == 0 && !fully_open[f])
+                  {
+                    fully_open[f]  = true;
+                    loss_of_fit[f] = last_now;
+                    log << "Interface " << interfaces.list()[f].name
+                        << ": the fit is fully open between " << rpm[k - 1]
+                        << " and " << rpm[k] << " r/min (loss of fit at "
+                        << format(last_now) << " r/min)\n";
+                  }
+              }
+            else if (closed < ids.size())
+              log << "Interface " << interfaces.list()[f].name << ": "
+                  << ids.size() - closed
+                  << " pairs are already open at the first speed\n";
+
+            if (root)
+              table << rpm[k] << ',' << interfaces.list()[f].name << ',' << closed
+                    << ',' << ids.size() << ',' << fraction << ',' << p_mean << ','
+                    << p_max << ',' << error << ',' << state.active_set_iterations
+                    << ',' << state.uzawa_iterations << ',' << state.factorizations
+                    << ',' << (state.converged ? 1 : 0) << ',' << first_open[f]
+                    << ',' << (fully_open[f] ? loss_of_fit[f] : pred_last) << '\n';
+            progress << ' ' << interfaces.list()[f].name << ' ' << closed << '/'
+                     << ids.size() << " closed, p_mean " << std::setprecision(4)
+                     << p_mean / 1e6 << " MPa, error " << std::setprecision(2)
+                     << error << ';';
+          }
+        if (root)
+          {
+            table << std::flush;
+            openings << std::flush;
+          }
+        if (!state.converged)
+          log << "Warning: the active set did not settle at " << rpm[k]
+              << " r/min after " << state.active_set_iterations
+              << " iterations (" << state.held_closed
+              << " pairs held closed by the cycling guard); its row has "
+                 "converged = 0.\n";
+
+        if (write_paraview)
+          {
+            TimerOutput::Scope t(*timer, "output (ParaView)");
+            write_vtu(k, rpm[k], state, pressure);
+          }
+
+        ++steps_done;
+        const double elapsed =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        const double eta = elapsed / steps_done * (rpm.size() - k - 1);
+        log << '[' << k + 1 << '/' << rpm.size() << "] " << rpm[k] << " r/min:"
+            << progress.str() << " iterations " << state.active_set_iterations
+            << '/' << state.uzawa_iterations << '/' << state.factorizations
+            << " (active set/Uzawa/factorisations); " << std::fixed
+            << std::setprecision(1) << elapsed << " s, ETA " << eta << " s"
+            << std::defaultfloat << std::setprecision(6) << '\n';
+
+        prev_active = state.active;
+        prev_I      = d.pressure_I;
+        prev_C      = d.pressure_C;
+        prev_affine = d.affine;
+
+        if (stop_on_loss_of_fit && n_if > 0 &&
+            std::all_of(fully_open.begin(), fully_open.end(), [](bool b) { return b; }))
+          {
+            log << "Every fit is fully open: the sweep stops here (Contact/On "
+                   "loss of fit = stop).\n";
+            break;
+          }
+      }
+
+    // when a fit never opened in the sweep, its loss of fit is extrapolated
+    // from the last active set's affine law
+    std::ofstream summary;
+    if (root)
+      summary.open(output_dir + "/summary.txt", std::ios::app);
+    summary << std::setprecision(8);
+    const auto &d = contact.decomposition();
+    for (unsigned int f = 0; f < n_if; ++f)
+      {
+        const std::string key = "interface." + interfaces.list()[f].name + ".";
+        double            lof = loss_of_fit[f], first = first_open[f];
+        if (!fully_open[f] && d.affine)
+          {
+            double last = 0, firstp = inf;
+            for (const auto i : pairs.pairs_of(f))
+              if (d.active[i])
+                {
+                  last   = std::max(last, opening_rpm(d.pressure_I[i], d.pressure_C[i]));
+                  firstp = std::min(firstp, opening_rpm(d.pressure_I[i], d.pressure_C[i]));
+                }
+            lof = last;
+            if (std::isnan(first))
+              first = firstp;
+          }
+        summary << key << "pairs " << pairs.pairs_of(f).size() << '\n'
+                << key << "mean_pressure_first_speed_Pa " << mean_p0[f] << '\n'
+                << key << "max_pressure_first_speed_Pa " << max_p0[f] << '\n'
+                << key << "constraint_error_max " << worst_error[f] << '\n'
+                << key << "first_opening_rpm " << first << '\n'
+                << key << "loss_of_fit_rpm " << lof << '\n'
+                << key << "loss_of_fit_within_sweep " << (fully_open[f] ? 1 : 0) << '\n';
+        log << "Interface " << interfaces.list()[f].name << ": first opening "
+            << format(first) << " r/min, loss of fit " << format(lof) << " r/min"
+            << (fully_open[f] ? "" : " (extrapolated beyond the sweep)") << '\n';
+      }
+    summary << "static.factorizations " << contact.n_factorizations() << '\n'
+            << "static.uzawa_iterations " << total_uzawa << '\n'
+            << "static.speeds " << steps_done << '\n';
+    log << "Static sweep: " << steps_done << " speeds, "
+        << contact.n_factorizations() << " factorisations, "
+        << contact.linear_solver().n_solves() << " back-substitutions\n";
+  }
+
+  void
+  StaticProblem::print_timing(std::ostream &out) const
+  {
+    if (timer)
+      {
+        timer->print_summary();
+        out << timer_stream.str();
+      }
+  }
+} // namespace rotorfit
