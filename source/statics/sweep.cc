@@ -28,6 +28,25 @@ namespace rotorfit
       return SpeedSchedule::rad_per_s_to_rpm(std::sqrt(-n_i / n_c));
     }
 
+    /// Speed [r/min] at which the total force sum_A (N_I + w N_C) of the
+    /// closed pairs @p ids of an interface vanishes: the loss of fit of that
+    /// active set. Robust where single pairs are noisy (THEORY 9).
+    double
+    total_force_zero_rpm(const std::vector<unsigned int> &ids,
+                         const std::vector<bool>         &active,
+                         const std::vector<double>       &n_i,
+                         const std::vector<double>       &n_c)
+    {
+      double sum_i = 0, sum_c = 0;
+      for (const auto i : ids)
+        if (active[i])
+          {
+            sum_i += n_i[i];
+            sum_c += n_c[i];
+          }
+      return opening_rpm(sum_i, sum_c);
+    }
+
     std::string
     format(const double x)
     {
@@ -63,7 +82,7 @@ namespace rotorfit
     std::vector<bool>   fully_open(n_if, false);
     std::vector<double> mean_p0(n_if, nan), max_p0(n_if, nan), worst_error(n_if, 0.);
     std::vector<bool>   prev_active;
-    std::vector<double> prev_I, prev_C;
+    std::vector<double> prev_I, prev_C, prev_force_I, prev_force_C;
     bool                prev_affine = false;
     unsigned int        total_uzawa = 0;
     const auto          start       = std::chrono::steady_clock::now();
@@ -93,18 +112,18 @@ namespace rotorfit
               if (state.active[i])
                 {
                   ++closed;
-                  force += pressure[i];
+                  force += state.force[i];
                   p_max = std::max(p_max, pressure[i]);
                   error = std::max(error, std::abs(state.gap[i]) / list[i].interference);
                   const double o = d.affine ? opening_rpm(d.pressure_I[i], d.pressure_C[i]) : nan;
                   pred_first = std::min(pred_first, o);
-                  pred_last  = std::max(pred_last, o);
                 }
+            pred_last = total_force_zero_rpm(ids, state.active, d.force_I, d.force_C);
             if (!d.affine || closed == 0)
               pred_first = pred_last = nan;
             const double area    = pairs.closed_area(f, state.active);
-            // mean of the (smooth) pressure field over the closed pairs
-            const double p_mean  = closed > 0 ? force / closed : 0.;
+            // total normal force over the closed area (exact for uniform p)
+            const double p_mean  = closed > 0 ? force / area : 0.;
             const double fraction = area / pairs.area(f);
             worst_error[f] = std::max(worst_error[f], error);
             if (k == 0)
@@ -136,12 +155,20 @@ namespace rotorfit
                   first_open[f] = first_now;
                 if (closed == 0 && !fully_open[f])
                   {
-                    fully_open[f]  = true;
-                    loss_of_fit[f] = last_now;
+                    fully_open[f] = true;
+                    double lof    = prev_affine ?
+                                      total_force_zero_rpm(ids, prev_active,
+                                                           prev_force_I, prev_force_C) :
+                                      nan;
+                    if (!std::isnan(lof))
+                      lof = std::min(std::max(lof, rpm[k - 1]), rpm[k]);
+                    loss_of_fit[f] = lof;
                     log << "Interface " << interfaces.list()[f].name
                         << ": the fit is fully open between " << rpm[k - 1]
                         << " and " << rpm[k] << " r/min (loss of fit at "
-                        << format(last_now) << " r/min)\n";
+                        << format(loss_of_fit[f]) << " r/min from the total "
+                        << "contact force; last pair at " << format(last_now)
+                        << " r/min)\n";
                   }
               }
             else if (closed < ids.size())
@@ -191,8 +218,10 @@ namespace rotorfit
             << std::defaultfloat << std::setprecision(6) << '\n';
 
         prev_active = state.active;
-        prev_I      = d.pressure_I;
-        prev_C      = d.pressure_C;
+        prev_I       = d.pressure_I;
+        prev_C       = d.pressure_C;
+        prev_force_I = d.force_I;
+        prev_force_C = d.force_C;
         prev_affine = d.affine;
 
         if (stop_on_loss_of_fit && n_if > 0 &&
