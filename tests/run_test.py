@@ -8,6 +8,8 @@ independently known values at a tolerance stated in tests/CMakeLists.txt.
   run_test.py error EXE PRM EXPECTED
       --validate must fail with exit code 1; stderr is compared with EXPECTED
       (numdiff, numbers to 1e-6 relative).
+  run_test.py ratio EXE PRM_A OUT_A PRM_B OUT_B KEY EXPECTED RTOL
+      run two cases; KEY(A)/KEY(B) must equal EXPECTED within RTOL (numdiff).
   run_test.py same EXE PRM OUTDIR_1 OUTDIR_2 RTOL ATOL
       contact.csv with 1 and 2 MPI ranks must agree (numdiff).
 """
@@ -17,9 +19,10 @@ import sys
 
 
 def numdiff(a, b, rtol, atol):
-    r = subprocess.run(["numdiff", "-q", "-r", str(rtol), "-a", str(atol), a, b])
+    sep = ["-s", " \t\n,"]  # CSV fields are numbers of their own
+    r = subprocess.run(["numdiff", "-q", *sep, "-r", str(rtol), "-a", str(atol), a, b])
     if r.returncode != 0:
-        subprocess.run(["numdiff", "-r", str(rtol), "-a", str(atol), a, b])
+        subprocess.run(["numdiff", *sep, "-r", str(rtol), "-a", str(atol), a, b])
         print(f"--- {a}\n" + open(a).read())
     return r.returncode
 
@@ -36,15 +39,37 @@ def run(exe, prm, np=1):
 
 
 def set_output(prm, outdir):
-    """A copy of PRM next to it whose Output/Directory is OUTDIR."""
-    text = open(prm).read()
+    """A copy of PRM in the working directory writing to OUTDIR, with the
+    geometry file made absolute."""
     import re
+    text = open(prm).read()
     text = re.sub(r"(subsection Output.*?set Directory\s*=\s*)\S+", r"\g<1>" + outdir, text,
                   flags=re.S)
-    copy = os.path.join(os.path.dirname(os.path.abspath(prm)),
-                        "." + os.path.basename(outdir) + ".prm")
+    base = os.path.dirname(os.path.abspath(prm))
+    text = re.sub(r"(set Geometry file\s*=\s*)(\S+)",
+                  lambda m: m.group(1) + os.path.normpath(os.path.join(base, m.group(2))), text)
+    copy = os.path.basename(outdir) + ".prm"
     open(copy, "w").write(text)
     return copy
+
+
+def falls(exe, prm, outdir):
+    """Contact fraction of every interface: 1 at the first speed, then
+    strictly decreasing once below 1, and still > 0 (partial opening)."""
+    run(exe, prm)
+    import csv
+    rows = list(csv.DictReader(open(os.path.join(outdir, "contact.csv"))))
+    ok = True
+    for name in sorted({r["interface"] for r in rows}):
+        f = [(float(r["speed_rpm"]), float(r["contact_fraction"])) for r in rows
+             if r["interface"] == name]
+        print(name, f)
+        ok &= abs(f[0][1] - 1) < 1e-12
+        opened = [x for x in f if x[1] < 1]
+        ok &= len(opened) >= 2 and all(b[1] < a[1] for a, b in zip(opened, opened[1:]))
+        ok &= f[-1][1] > 0
+    print("contact fraction falls with speed:", "ok" if ok else "FAILED")
+    return 0 if ok else 1
 
 
 def compare(exe, prm, outdir, expected, rtol, atol, np="1"):
@@ -70,9 +95,34 @@ def compare(exe, prm, outdir, expected, rtol, atol, np="1"):
     return 1 if failed else 0
 
 
+def summary_value(outdir, key):
+    for line in open(os.path.join(outdir, "summary.txt")):
+        if line.split()[0] == key:
+            return float(line.split()[1])
+    sys.exit(f"{key} missing from {outdir}/summary.txt")
+
+
+def ratio(exe, prm_a, out_a, prm_b, out_b, keys, expected, rtol):
+    """KEYS: comma-separated; each KEY(A)/KEY(B) must equal EXPECTED."""
+    run(exe, prm_a)
+    run(exe, prm_b)
+    failed = 0
+    for key in keys.split(","):
+        a, b = summary_value(out_a, key), summary_value(out_b, key)
+        got, want = os.path.join(out_a, key + ".ratio.got"), os.path.join(out_a, key + ".ratio.want")
+        open(got, "w").write(f"{key}_ratio {a / b:.10g}\n")
+        open(want, "w").write(f"{key}_ratio {expected}\n")
+        status = numdiff(got, want, rtol, 0)
+        print(f"{key}: {a} / {b} = {a / b} vs {expected} (rtol {rtol}):",
+              "ok" if status == 0 else "FAILED")
+        failed += status != 0
+    return 1 if failed else 0
+
+
 def error(exe, prm, expected):
+    import tempfile
     r = subprocess.run([exe, "--validate", prm], capture_output=True, text=True)
-    got = os.path.basename(expected) + ".got"
+    got = os.path.join(tempfile.mkdtemp(), os.path.basename(expected) + ".got")
     open(got, "w").write(r.stderr)
     if r.returncode != 1:
         print(r.stdout, r.stderr)
@@ -88,6 +138,10 @@ if __name__ == "__main__":
         sys.exit(compare(*args))
     elif mode == "error":
         sys.exit(error(*args))
+    elif mode == "falls":
+        sys.exit(falls(*args))
+    elif mode == "ratio":
+        sys.exit(ratio(*args))
     elif mode == "same":
         exe, prm, out1, out2, rtol, atol = args
         run(exe, set_output(prm, out1), 1)
