@@ -47,11 +47,12 @@ namespace rotorfit
     {
       std::ostringstream s;
       e.print_info(s);
-      std::string m = s.str();
-      while (!m.empty() && (m.back() == '\n' || m.back() == ' '))
-        m.pop_back();
-      const auto start = m.find_first_not_of(" \n");
-      return start == std::string::npos ? m : m.substr(start);
+      // one line: deal.II indents its messages over several
+      std::string m, word;
+      std::istringstream words(s.str());
+      while (words >> word)
+        m += (m.empty() ? "" : " ") + word;
+      return m;
     }
 
     /// Two passes: the body and interface names decide which subsections
@@ -139,7 +140,18 @@ namespace rotorfit
         problem.parse_parameters(prm, dir.empty() ? "." : dir);
         if (!validate)
           {
-            std::filesystem::create_directories(problem.output_directory());
+            std::string error;
+            if (root)
+              {
+                std::error_code ec;
+                std::filesystem::create_directories(problem.output_directory(), ec);
+                if (ec)
+                  error = "Output/Directory = '" + problem.output_directory() +
+                          "' cannot be created: " + ec.message() + ".";
+              }
+            error = Utilities::MPI::broadcast(comm, error, 0);
+            if (!error.empty())
+              throw InputError(error);
             log.open_file(problem.output_directory() + "/log.txt");
             if (root)
               {

@@ -101,7 +101,7 @@ namespace rotorfit
     struct SidePoint
     {
       Point<3>                               x;
-      std::array<types::global_dof_index, 2> dofs;
+      std::array<types::global_dof_index, 3> dofs;
     };
 
     double
@@ -157,9 +157,11 @@ namespace rotorfit
                       const auto [c, k] = fe.system_to_component_index(i);
                       if (c != 0)
                         continue;
-                      const unsigned int iy = fe.component_to_system_index(1, k);
                       side[s][dofs[i]] =
-                        SidePoint{support_points[dofs[i]], {{dofs[i], dofs[iy]}}};
+                        SidePoint{support_points[dofs[i]],
+                                  {{dofs[i],
+                                    dofs[fe.component_to_system_index(1, k)],
+                                    dofs[fe.component_to_system_index(2, k)]}}};
                       face_x_dofs.push_back(dofs[i]);
                     }
                   if (s == 0)

@@ -12,6 +12,7 @@
 #include <deal.II/grid/tria_description.h>
 
 #include <gmsh.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -119,7 +120,7 @@ namespace rotorfit
   }
 
   AssemblyMesh::GmshData
-  AssemblyMesh::run_gmsh(const std::string &scratch_directory) const
+  AssemblyMesh::run_gmsh() const
   {
     GmshData data;
     gmsh::initialize();
@@ -128,12 +129,17 @@ namespace rotorfit
     try
       {
         std::string file = geometry_filename;
+        std::filesystem::path scratch;
         const bool  is_geo =
           std::filesystem::path(file).extension().string() == ".geo";
         if (is_geo && !geometry_parameters.empty())
           {
-            // The .geo's DefineConstant keeps values defined before it.
-            file = scratch_directory + "/geometry_with_parameters.geo";
+            // The .geo's DefineConstant keeps values defined before it. The
+            // wrapper goes to a private temporary file (--validate writes
+            // nothing into the case's directories).
+            scratch = std::filesystem::temp_directory_path() /
+                      ("rotorfit-" + std::to_string(::getpid()) + ".geo");
+            file = scratch.string();
             std::ofstream out(file);
             out.precision(17);
             for (const auto &[name, value] : geometry_parameters)
@@ -143,6 +149,8 @@ namespace rotorfit
                 << "\";\n";
           }
         gmsh::open(file);
+        if (!scratch.empty())
+          std::filesystem::remove(scratch);
         if (is_geo)
           gmsh::model::mesh::generate(3);
         // quadratic geometry always: gmsh puts mid-edge nodes on the CAD
@@ -223,8 +231,7 @@ namespace rotorfit
   }
 
   void
-  AssemblyMesh::create(const std::vector<std::string> &body_volumes,
-                       const std::string              &scratch_directory)
+  AssemblyMesh::create(const std::vector<std::string> &body_volumes)
   {
     // mesh on rank 0 only, then broadcast: gmsh is serial and every rank
     // must see exactly the same mesh
@@ -234,7 +241,7 @@ namespace rotorfit
       {
         try
           {
-            data = run_gmsh(scratch_directory);
+            data = run_gmsh();
           }
         catch (const InputError &e)
           {
@@ -383,16 +390,16 @@ namespace rotorfit
     std::vector<std::array<int, 2>> node_of(unit_points.size());
     for (unsigned int k = 0; k < unit_points.size(); ++k)
       {
-        node_of[k] = {-1, -1};
+        node_of[k] = {{-1, -1}};
         for (unsigned int i = 0; i < 4; ++i)
           {
             if (unit_points[k].distance(ref.vertex<3>(i)) < 1e-12)
-              node_of[k] = {static_cast<int>(i), -1};
+              node_of[k] = {{static_cast<int>(i), -1}};
             for (unsigned int j = i + 1; j < 4; ++j)
               if (unit_points[k].distance(
                     0.5 * (ref.vertex<3>(i) + Tensor<1, 3>(ref.vertex<3>(j)))) <
                   1e-12)
-                node_of[k] = {static_cast<int>(i), static_cast<int>(j)};
+                node_of[k] = {{static_cast<int>(i), static_cast<int>(j)}};
           }
         AssertThrow(node_of[k][0] >= 0, ExcInternalError());
       }

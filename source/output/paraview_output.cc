@@ -62,28 +62,16 @@ namespace rotorfit
     Vector<double> contact_fields(dof_handler.n_dofs());
     const auto    &list = pairs.pairs();
     for (unsigned int i = 0; i < list.size(); ++i)
-      for (const auto &dofs : {list[i].shaft_dofs, list[i].hub_dofs})
+      for (const auto &dofs : {list[i].shaft_dofs, list[i].hub_dofs})  // x: status, y: pressure
         {
           contact_fields[dofs[0]]     = state.active[i] ? 1. : 0.;
           contact_fields[dofs[1]]     = state.active[i] ? pressure[i] : 0.;
         }
     // the z DoF of each pair node carries the gap
-    std::vector<types::global_dof_index> dofs(fe->n_dofs_per_cell());
-    std::map<types::global_dof_index, types::global_dof_index> z_of_x;
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      {
-        cell->get_dof_indices(dofs);
-        for (unsigned int i = 0; i < dofs.size(); ++i)
-          {
-            const auto [c, k] = fe->system_to_component_index(i);
-            if (c == 0)
-              z_of_x[dofs[i]] = dofs[fe->component_to_system_index(2, k)];
-          }
-      }
     for (unsigned int i = 0; i < list.size(); ++i)
       {
-        contact_fields[z_of_x[list[i].shaft_dofs[0]]] = state.gap[i];
-        contact_fields[z_of_x[list[i].hub_dofs[0]]]   = state.gap[i];
+        contact_fields[list[i].shaft_dofs[2]] = state.gap[i];
+        contact_fields[list[i].hub_dofs[2]]   = state.gap[i];
       }
 
     Vector<float> body(mesh.triangulation().n_active_cells());

@@ -110,25 +110,12 @@ namespace rotorfit
   void
   StaticProblem::setup()
   {
-    std::string error;
-    if (Utilities::MPI::this_mpi_process(comm) == 0)
-      {
-        std::error_code ec;
-        std::filesystem::create_directories(output_dir, ec);
-        if (ec)
-          error = "Output/Directory = '" + output_dir +
-                  "' cannot be created: " + ec.message() + ".";
-      }
-    error = Utilities::MPI::broadcast(comm, error, 0);
-    if (!error.empty())
-      throw InputError(error);
-
     timer = std::make_unique<TimerOutput>(timer_stream,
                                           TimerOutput::never,
                                           TimerOutput::wall_times);
     {
       TimerOutput::Scope t(*timer, "mesh (gmsh + triangulation)");
-      mesh.create(bodies.physical_volumes(), output_dir);
+      mesh.create(bodies.physical_volumes());
     }
     TimerOutput::Scope t(*timer, "setup (DoFs, pairs, constraints)");
     fe = std::make_unique<FESystem<3>>(FE_SimplexP<3>(mesh.element_order()), 3);

@@ -107,7 +107,7 @@ namespace rotorfit
             const auto  &ids = pairs.pairs_of(f);
             unsigned int closed = 0;
             double       force = 0, p_max = 0, error = 0;
-            double       pred_first = inf, pred_last = 0;
+            double       pred_last = 0;
             for (const auto i : ids)
               if (state.active[i])
                 {
@@ -115,12 +115,10 @@ namespace rotorfit
                   force += state.force[i];
                   p_max = std::max(p_max, pressure[i]);
                   error = std::max(error, std::abs(state.gap[i]) / list[i].interference);
-                  const double o = d.affine ? opening_rpm(d.pressure_I[i], d.pressure_C[i]) : nan;
-                  pred_first = std::min(pred_first, o);
                 }
             pred_last = total_force_zero_rpm(ids, state.active, d.force_I, d.force_C);
             if (!d.affine || closed == 0)
-              pred_first = pred_last = nan;
+              pred_last = nan;
             const double area    = pairs.closed_area(f, state.active);
             // total normal force over the closed area (exact for uniform p)
             const double p_mean  = closed > 0 ? force / area : 0.;

@@ -52,20 +52,6 @@ namespace rotorfit
       return *this;
     }
 
-    /// Write to the log file only (not the terminal).
-    void
-    file_only(const std::string &text)
-    {
-      if (active && file.is_open())
-        file << text << std::flush;
-    }
-
-    bool
-    is_active() const
-    {
-      return active;
-    }
-
   private:
     bool          active;
     std::ofstream file;

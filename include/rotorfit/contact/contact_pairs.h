@@ -56,15 +56,15 @@ namespace rotorfit
 
   /**
    * One node-to-node pair: a shaft-side and a hub-side support point that
-   * coincide in the reference mesh. Only the x and y DoFs take part
-   * (frictionless, radial normal n = (x, y, 0)/r fixed in the reference
-   * configuration). Gap g = n.(u_hub - u_shaft) - delta, g < 0: penetration.
+   * coincide in the reference mesh. Only the x and y DoFs take part in the
+   * contact (frictionless, radial normal n = (x, y, 0)/r fixed in the
+   * reference configuration); z is kept for output. Gap g = n.(u_hub - u_shaft) - delta, g < 0: penetration.
    */
   struct ContactPair
   {
     unsigned int                                 interface;
-    std::array<dealii::types::global_dof_index, 2> shaft_dofs; ///< x, y
-    std::array<dealii::types::global_dof_index, 2> hub_dofs;   ///< x, y
+    std::array<dealii::types::global_dof_index, 3> shaft_dofs; ///< x, y, z
+    std::array<dealii::types::global_dof_index, 3> hub_dofs;   ///< x, y, z
     dealii::Tensor<1, 3>                         normal;
     dealii::Point<3>                             position;
     double                                       interference;

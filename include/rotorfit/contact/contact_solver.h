@@ -120,12 +120,6 @@ namespace rotorfit
       return alpha;
     }
 
-    const std::vector<double> &
-    penalties() const
-    {
-      return epsilon;
-    }
-
     DirectSolver &
     linear_solver()
     {

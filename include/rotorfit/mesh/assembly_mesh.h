@@ -50,12 +50,10 @@ namespace rotorfit
 
     /**
      * Mesh the geometry and build the triangulation. @p body_volumes are the
-     * physical volume names, body i gets material_id i. @p scratch_directory
-     * receives a small .geo wrapper that sets the geometry parameters.
+     * physical volume names, body i gets material_id i.
      */
     void
-    create(const std::vector<std::string> &body_volumes,
-           const std::string              &scratch_directory);
+    create(const std::vector<std::string> &body_volumes);
 
     dealii::parallel::shared::Triangulation<3> &
     triangulation()
@@ -94,12 +92,6 @@ namespace rotorfit
     check_surface_exists(const std::string &name,
                          const std::string &entry) const;
 
-    const std::string &
-    geometry_file() const
-    {
-      return geometry_filename;
-    }
-
   private:
     struct GmshData
     {
@@ -112,7 +104,7 @@ namespace rotorfit
     };
 
     GmshData
-    run_gmsh(const std::string &scratch_directory) const;
+    run_gmsh() const;
 
     void
     build_position_field(
