@@ -267,17 +267,23 @@ namespace rotorfit
         state.force.resize(n);
         state.gap.resize(n);
         state.pressure.resize(n);
-        std::vector<bool> next(n);
         for (unsigned int i = 0; i < n; ++i)
           {
             const double wc   = current.affine ? w : 0.;
             state.force[i]    = current.force_I[i] + wc * current.force_C[i];
             state.gap[i]      = current.gap_I[i] + wc * current.gap_C[i];
             state.pressure[i] = current.pressure_I[i] + wc * current.pressure_C[i];
-            // a closed pair stays closed while its pressure is compressive;
-            // an open one closes when it penetrates
-            next[i] = active[i] ? state.pressure[i] > 0 : state.gap[i] < 0;
           }
+        // A closed pair opens when both its pressure and its own nodal force
+        // are tensile. The force alone is noise on P2 vertex pairs (their
+        // weight int psi_i dA is zero: they would open at rest); the smooth
+        // pressure alone would open pairs whose own force still holds them,
+        // which then penetrate and close again (cycling). An open pair
+        // closes when it penetrates.
+        std::vector<bool> next(n);
+        for (unsigned int i = 0; i < n; ++i)
+          next[i] = active[i] ? (state.pressure[i] > 0 || state.force[i] > 0) :
+                                state.gap[i] < 0;
         if (next == active)
           break;
         if (state.active_set_iterations >= max_active_set_iterations)
@@ -292,10 +298,10 @@ namespace rotorfit
             next[i] = true;
         if (next == active || seen.count(next) > 0)
           {
+            // pairs held closed may carry tension: the row is flagged, not
+            // passed off as a clean contact state
             state.held_closed = std::count_if(flips.begin(), flips.end(),
                                               [](unsigned int f) { return f >= 2; });
-            if (next == active)
-              break;
             state.converged = false;
             break;
           }
