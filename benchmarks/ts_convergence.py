@@ -3,7 +3,8 @@
 against the Lame bracket 22,896 (plane stress) .. 23,694 r/min (plane strain)
 and the study's ~23,000 r/min.
 
-Usage (repository root, after building into build/):
+Usage (repository root, after building into build/; ROTORFIT=path overrides
+the executable):
     python3 benchmarks/ts_convergence.py [h_fit_mm ...]      (default 4 3 2.5 2)
 Writes benchmarks/output/ts_convergence/<h>/ and prints a Markdown table:
 pressure at rest, first pair opening, half opening (contact fraction 0.5,
@@ -34,7 +35,8 @@ def run(h_fit_mm):
     prm = os.path.join(out, "case.prm")
     open(prm, "w").write(text)
     t = time.time()
-    log = subprocess.run([os.path.join(root, "build", "rotorfit"), prm], capture_output=True, text=True, check=True).stdout
+    exe = os.environ.get("ROTORFIT", os.path.join(root, "build", "rotorfit"))
+    log = subprocess.run([exe, prm], capture_output=True, text=True, check=True).stdout
     wall = time.time() - t
     s = dict(l.split(None, 1) for l in open(os.path.join(out, "summary.txt")))
     rows = list(csv.DictReader(open(os.path.join(out, "contact.csv"))))

@@ -35,7 +35,7 @@ namespace rotorfit
         {
           std::cout << t;
           if (file.is_open())
-            file << t;
+            file << t << std::flush; // an interrupted run keeps its log
         }
       return *this;
     }
