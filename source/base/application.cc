@@ -2,7 +2,9 @@
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/base/log.h>
 #include <rotorfit/base/version.h>
+#include <rotorfit/bearing/bearings.h>
 #include <rotorfit/contact/contact_pairs.h>
+#include <rotorfit/eigen/modal_problem.h>
 #include <rotorfit/material/bodies.h>
 #include <rotorfit/statics/static_problem.h>
 
@@ -34,11 +36,14 @@ namespace rotorfit
     void
     declare_all(ParameterHandler               &prm,
                 const std::vector<std::string> &body_names,
-                const std::vector<std::string> &interface_names)
+                const std::vector<std::string> &interface_names,
+                const std::vector<std::string> &bearing_names)
     {
       StaticProblem::declare_parameters(prm);
+      ModalProblem::declare_parameters(prm);
       Bodies::declare_parameters(prm, body_names);
       ContactInterfaces::declare_parameters(prm, interface_names);
+      Bearings::declare_parameters(prm, bearing_names);
     }
 
     /// deal.II's message without file/line/stack decoration.
@@ -62,16 +67,17 @@ namespace rotorfit
     {
       if (!std::filesystem::exists(file))
         throw InputError("the parameter file '" + file + "' does not exist.");
-      std::vector<std::string> bodies, interfaces;
+      std::vector<std::string> bodies, interfaces, bearings;
       try
         {
           ParameterHandler first;
-          declare_all(first, {}, {});
+          declare_all(first, {}, {}, {});
           first.parse_input(file, "", true);
           bodies = Utilities::split_string_list(first.get("Bodies"), ',');
           interfaces =
             Utilities::split_string_list(first.get("Interfaces"), ',');
-          declare_all(prm, bodies, interfaces);
+          bearings = Utilities::split_string_list(first.get("Bearings"), ',');
+          declare_all(prm, bodies, interfaces, bearings);
           prm.parse_input(file, "", false);
         }
       catch (const ExceptionBase &e)
@@ -107,7 +113,7 @@ namespace rotorfit
     if (args[0] == "--print-parameters")
       {
         ParameterHandler prm;
-        declare_all(prm, {"<name>"}, {"<name>"});
+        declare_all(prm, {"<name>"}, {"<name>"}, {"<name>"});
         if (root)
           prm.print_parameters(std::cout, ParameterHandler::Text);
         return 0;
@@ -135,9 +141,11 @@ namespace rotorfit
         ParameterHandler prm;
         parse_file(prm, file);
         StaticProblem problem(comm, log);
+        ModalProblem  modal(problem, log);
         const std::string dir =
           std::filesystem::path(file).parent_path().string();
         problem.parse_parameters(prm, dir.empty() ? "." : dir);
+        modal.parse_parameters(prm, dir.empty() ? "." : dir, problem.spin_softening_on());
         if (!validate)
           {
             std::string error;
@@ -165,6 +173,7 @@ namespace rotorfit
             << Utilities::MPI::n_mpi_processes(comm) << " MPI rank(s)\n"
             << "Case: " << file << '\n';
         problem.setup();
+        modal.setup();
         if (validate)
           {
             log << file << ": valid.\n";
@@ -172,7 +181,12 @@ namespace rotorfit
           }
         try
           {
-            problem.run();
+            problem.run([&](const unsigned int step,
+                            const double       rpm,
+                            const ContactSolver::State &state) {
+              modal.solve_speed(step, rpm, state);
+            });
+            modal.finish();
           }
         catch (const InputError &)
           {
@@ -183,6 +197,7 @@ namespace rotorfit
             log << "rotorfit: failure during the solve: " << e.what()
                 << "\nThe speeds already done are in "
                 << problem.output_directory() << ".\n";
+            modal.finish();
             return 2;
           }
         std::ostringstream timing;

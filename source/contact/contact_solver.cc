@@ -242,6 +242,7 @@ namespace rotorfit
     next.pressure_I = pairs->pressure(next.force_I);
     next.pressure_C = pairs->pressure(next.force_C);
     next.valid      = true;
+    next.serial     = ++decompositions;
     current         = std::move(next);
   }
 

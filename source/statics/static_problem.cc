@@ -293,7 +293,7 @@ namespace rotorfit
   }
 
   void
-  StaticProblem::run()
+  StaticProblem::run(const SpeedCallback &after_speed)
   {
     assemble();
     const double w_max =
@@ -314,6 +314,6 @@ namespace rotorfit
         << ", penalty scale " << contact.penalty_scale() << "; linear solver "
         << contact.linear_solver().name() << "; spin softening "
         << (spin_softening ? "on" : "off") << "\n";
-    sweep();
+    sweep(after_speed);
   }
 } // namespace rotorfit

@@ -57,7 +57,7 @@ namespace rotorfit
   } // namespace
 
   void
-  StaticProblem::sweep()
+  StaticProblem::sweep(const SpeedCallback &after_speed)
   {
     const bool         root = Utilities::MPI::this_mpi_process(comm) == 0;
     const auto        &rpm  = speeds.speeds_rpm();
@@ -203,6 +203,9 @@ namespace rotorfit
             TimerOutput::Scope t(*timer, "output (ParaView)");
             write_vtu(k, rpm[k], state, pressure);
           }
+
+        if (after_speed)
+          after_speed(k, rpm[k], state);
 
         ++steps_done;
         const double elapsed =

@@ -52,6 +52,7 @@ namespace rotorfit
       bool   affine  = true; ///< false: valid only at w_fixed
       double w_fixed = 0;
       bool   valid   = false;
+      unsigned int serial = 0; ///< changes with every new decomposition
     };
 
     /// Result at one speed.
@@ -120,6 +121,13 @@ namespace rotorfit
       return alpha;
     }
 
+    /// Penalty of pair @p i [N/m] (Penalty scale times its radial stiffness).
+    double
+    penalty(const unsigned int i) const
+    {
+      return epsilon[i];
+    }
+
     DirectSolver &
     linear_solver()
     {
@@ -169,5 +177,6 @@ namespace rotorfit
     DirectSolver                             solver;
     Decomposition                            current;
     unsigned int                             uzawa_count = 0;
+    unsigned int                             decompositions = 0;
   };
 } // namespace rotorfit

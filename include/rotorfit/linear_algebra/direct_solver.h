@@ -64,6 +64,13 @@ namespace rotorfit
     std::string
     name() const;
 
+    /// Override the parsed type (unsymmetric matrices need LU).
+    void
+    set_type(const Type t)
+    {
+      type = t;
+    }
+
   private:
     void
     destroy();

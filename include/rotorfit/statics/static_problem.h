@@ -19,6 +19,7 @@
 #include <deal.II/lac/petsc_sparse_matrix.h>
 #include <deal.II/lac/petsc_vector.h>
 
+#include <functional>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -60,9 +61,73 @@ namespace rotorfit
     void
     setup();
 
-    /// Assemble and run the speed sweep.
+    /// Called after the static solve of each speed: (step, speed [r/min], state).
+    using SpeedCallback =
+      std::function<void(unsigned int, double, const ContactSolver::State &)>;
+
+    /// Assemble and run the speed sweep; @p after_speed (if set) runs at
+    /// every speed once the static results are written.
     void
-    run();
+    run(const SpeedCallback &after_speed = {});
+
+    /// @name What the dynamics builds on (valid after setup())
+    /// @{
+    const AssemblyMesh &
+    assembly_mesh() const
+    {
+      return mesh;
+    }
+    const dealii::DoFHandler<3> &
+    dofs() const
+    {
+      return dof_handler;
+    }
+    const dealii::IndexSet &
+    locally_owned_dofs() const
+    {
+      return owned;
+    }
+    const Bodies &
+    body_list() const
+    {
+      return bodies;
+    }
+    const ContactPairs &
+    contact_pairs() const
+    {
+      return pairs;
+    }
+    const ContactInterfaces &
+    interface_list() const
+    {
+      return interfaces;
+    }
+    const ContactSolver &
+    contact_solver() const
+    {
+      return contact;
+    }
+    const SpeedSchedule &
+    speed_schedule() const
+    {
+      return speeds;
+    }
+    const std::vector<dealii::Point<3>> &
+    dof_support_points() const
+    {
+      return support_points;
+    }
+    bool
+    spin_softening_on() const
+    {
+      return spin_softening;
+    }
+    dealii::TimerOutput &
+    timer_output()
+    {
+      return *timer;
+    }
+    /// @}
 
     /// Timing summary for the log.
     void
@@ -76,7 +141,7 @@ namespace rotorfit
     void
     assemble();
     void
-    sweep();
+    sweep(const SpeedCallback &after_speed);
     void
     write_vtu(const unsigned int step, const double rpm,
               const ContactSolver::State &state,

@@ -1,0 +1,115 @@
+#pragma once
+
+#include <rotorfit/linear_algebra/direct_solver.h>
+
+#include <deal.II/base/index_set.h>
+#include <deal.II/base/parameter_handler.h>
+
+#include <deal.II/lac/petsc_sparse_matrix.h>
+#include <deal.II/lac/petsc_vector.h>
+#include <deal.II/lac/vector.h>
+
+#include <complex>
+#include <vector>
+
+namespace rotorfit
+{
+  /// A complex vector as two real ones (replicated on every rank).
+  struct ComplexVector
+  {
+    dealii::Vector<double> re, im;
+  };
+
+  /// One eigenpair of the quadratic problem (lambda^2 M + lambda C + K) phi = 0.
+  struct EigenPair
+  {
+    std::complex<double> lambda; ///< [rad/s]; Im >= 0 member of a pair
+    ComplexVector        phi;    ///< displacement part of the state vector
+    double               backward_error = 0;
+  };
+
+  /**
+   * Damped eigenvalues of M q'' + C q' + K q = 0 (THEORY 8): first companion
+   * linearisation of size 2n, shift-invert with a real shift sigma > 0 and
+   * ARPACK (dnaupd mode 3, B = diag(I, M)); one sparse LU of
+   * Q(sigma) = sigma^2 M + sigma C + K per call. A positive shift keeps Q
+   * regular for free-free rotors and loose bodies (THEORY P13), and the
+   * eigenvalues come ordered by |lambda - sigma|, lowest frequencies first.
+   *
+   * The Arnoldi vectors are replicated on every MPI rank (identical work,
+   * deterministic start vector); the factorisation and the products with M,
+   * C, K are distributed.
+   *
+   * Parameters: subsection "Eigenproblem" (solver entries).
+   */
+  class DampedEigensolver
+  {
+  public:
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+
+    struct Statistics
+    {
+      unsigned int requested   = 0; ///< ARPACK nev (conjugates counted twice)
+      unsigned int krylov_size = 0;
+      unsigned int iterations  = 0; ///< Arnoldi restarts used
+      unsigned int operator_applications = 0;
+      double       factorization_seconds = 0, arnoldi_seconds = 0,
+                   solve_seconds = 0, check_seconds = 0;
+    };
+
+    /**
+     * The @p n_eigenvalues eigenvalues closest to the shift (conjugate pairs
+     * count twice), each pair once with Im lambda >= 0, sorted by |lambda|.
+     * @p Q_out receives Q(sigma) (same pattern as K). Throws if ARPACK fails.
+     */
+    std::vector<EigenPair>
+    solve(const dealii::PETScWrappers::MPI::SparseMatrix &M,
+          const dealii::PETScWrappers::MPI::SparseMatrix &C,
+          const dealii::PETScWrappers::MPI::SparseMatrix &K,
+          dealii::PETScWrappers::MPI::SparseMatrix       &Q,
+          const unsigned int                              n_eigenvalues,
+          Statistics                                     &statistics);
+
+    double
+    shift() const
+    {
+      return sigma;
+    }
+
+    double
+    backward_error_limit() const
+    {
+      return max_backward_error;
+    }
+
+    const DirectSolver &
+    linear_solver() const
+    {
+      return solver;
+    }
+
+  private:
+    double       sigma               = 2 * M_PI * 10;
+    double       tolerance           = 1e-10;
+    double       krylov_factor       = 2;
+    unsigned int max_restarts        = 300;
+    double       max_backward_error  = 1e-6;
+    DirectSolver solver;
+  };
+
+  /// y = A x for replicated vectors (x, y of full size), A distributed.
+  void
+  replicated_vmult(const dealii::PETScWrappers::MPI::SparseMatrix &A,
+                   const dealii::Vector<double>                   &x,
+                   dealii::Vector<double>                         &y);
+
+  /// Complex y = A x, A real.
+  void
+  replicated_vmult(const dealii::PETScWrappers::MPI::SparseMatrix &A,
+                   const ComplexVector                            &x,
+                   ComplexVector                                  &y);
+} // namespace rotorfit

@@ -1,0 +1,59 @@
+#pragma once
+
+#include <rotorfit/material/bodies.h>
+
+#include <deal.II/base/index_set.h>
+
+#include <deal.II/dofs/dof_handler.h>
+
+#include <deal.II/fe/mapping.h>
+
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/petsc_sparse_matrix.h>
+#include <deal.II/lac/petsc_vector.h>
+
+namespace rotorfit
+{
+  /**
+   * The speed-independent matrices of the stationary-frame equations of
+   * motion (THEORY 1, 3, 4.3), without the static supports (P7): mass M,
+   * elastic stiffness K, gyroscopic G (skew part only, P4) and the
+   * convective stiffness K_theta, all over the rotating bodies with one
+   * quadrature rule; and the stress stiffness K_sigma(u) of a static
+   * displacement u (linear in u, so K_sigma(u_I + w u_C) is combined from
+   * two assembled parts).
+   */
+  class RotorMatrices
+  {
+  public:
+    /// All matrices share @p sparsity (kept referenced; pattern-wise sums).
+    void
+    reinit(const dealii::IndexSet               &owned,
+           const dealii::DynamicSparsityPattern &sparsity,
+           const MPI_Comm                        comm);
+
+    void
+    assemble(const dealii::DoFHandler<3> &dof_handler,
+             const dealii::Mapping<3>    &mapping,
+             const Bodies                &bodies);
+
+    /// K_sigma of the static displacement @p u (ghosted, all DoFs) into @p k_sigma.
+    void
+    assemble_stress_stiffness(const dealii::DoFHandler<3>              &dof_handler,
+                              const dealii::Mapping<3>                 &mapping,
+                              const Bodies                             &bodies,
+                              const dealii::PETScWrappers::MPI::Vector &u,
+                              dealii::PETScWrappers::MPI::SparseMatrix &k_sigma) const;
+
+    /// A zero matrix with the common pattern.
+    void
+    reinit_like(dealii::PETScWrappers::MPI::SparseMatrix &m) const;
+
+    dealii::PETScWrappers::MPI::SparseMatrix mass, stiffness, gyroscopic, convective;
+
+  private:
+    dealii::IndexSet                owned;
+    const dealii::DynamicSparsityPattern *pattern = nullptr;
+    MPI_Comm                        comm;
+  };
+} // namespace rotorfit

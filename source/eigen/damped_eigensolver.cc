@@ -1,0 +1,346 @@
+#include <rotorfit/base/input_error.h>
+#include <rotorfit/eigen/damped_eigensolver.h>
+
+#include <deal.II/base/mpi.h>
+
+#include <deal.II/lac/arpack_solver.h>
+#include <deal.II/lac/solver_control.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+namespace rotorfit
+{
+  using namespace dealii;
+
+  namespace
+  {
+    /// Copy entries [offset, offset + n) of a replicated vector into the
+    /// locally owned part of @p v.
+    void
+    scatter(const Vector<double> &x, const std::size_t offset, PETScWrappers::MPI::Vector &v)
+    {
+      PetscScalar *a;
+      VecGetArray(v, &a);
+      const auto range = v.local_range();
+      for (auto i = range.first; i < range.second; ++i)
+        a[i - range.first] = x[offset + i];
+      VecRestoreArray(v, &a);
+    }
+
+    /// Gather a distributed vector into entries [offset, offset + n) of a
+    /// replicated one.
+    void
+    gather(const PETScWrappers::MPI::Vector &v, Vector<double> &x, const std::size_t offset)
+    {
+      const MPI_Comm     comm  = v.get_mpi_communicator();
+      const unsigned int ranks = Utilities::MPI::n_mpi_processes(comm);
+      const auto         range = v.local_range();
+      const int          local = range.second - range.first;
+      std::vector<int>   counts(ranks), displs(ranks);
+      MPI_Allgather(&local, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+      for (unsigned int r = 1; r < ranks; ++r)
+        displs[r] = displs[r - 1] + counts[r - 1];
+      const PetscScalar *a;
+      VecGetArrayRead(v, &a);
+      MPI_Allgatherv(a, local, MPI_DOUBLE, x.data() + offset, counts.data(),
+                     displs.data(), MPI_DOUBLE, comm);
+      VecRestoreArrayRead(v, &a);
+    }
+
+    /// Work vectors in the matrices' layout.
+    struct Work
+    {
+      explicit Work(const PETScWrappers::MPI::SparseMatrix &A)
+        : owned(A.locally_owned_range_indices())
+        , comm(A.get_mpi_communicator())
+        , a(owned, comm)
+        , b(owned, comm)
+        , c(owned, comm)
+      {}
+      IndexSet                   owned;
+      MPI_Comm                   comm;
+      PETScWrappers::MPI::Vector a, b, c;
+    };
+
+    /// B = diag(I, M) on state vectors (x1, x2).
+    class StateMass
+    {
+    public:
+      StateMass(const PETScWrappers::MPI::SparseMatrix &M, const std::size_t n)
+        : M(M)
+        , n(n)
+        , work(M)
+      {}
+
+      void
+      vmult(Vector<double> &y, const Vector<double> &x) const
+      {
+        std::copy(x.begin(), x.begin() + n, y.begin());
+        scatter(x, n, work.a);
+        M.vmult(work.b, work.a);
+        gather(work.b, y, n);
+      }
+
+    private:
+      const PETScWrappers::MPI::SparseMatrix &M;
+      std::size_t                              n;
+      mutable Work                             work;
+    };
+
+    /// (A - sigma B)^{-1} r of the first companion form (THEORY 8):
+    /// y1 = -Q^{-1} [r2 + (C + sigma M) r1], y2 = r1 + sigma y1.
+    class ShiftInvert
+    {
+    public:
+      ShiftInvert(const PETScWrappers::MPI::SparseMatrix &M,
+                  const PETScWrappers::MPI::SparseMatrix &C,
+                  const DirectSolver                     &Q_inverse,
+                  const double                            sigma,
+                  const std::size_t                       n,
+                  unsigned int                           &applications)
+        : M(M)
+        , C(C)
+        , Q_inverse(Q_inverse)
+        , sigma(sigma)
+        , n(n)
+        , work(M)
+        , applications(applications)
+      {}
+
+      void
+      vmult(Vector<double> &y, const Vector<double> &r) const
+      {
+        scatter(r, 0, work.a);        // r1
+        M.vmult(work.b, work.a);      // M r1
+        work.b *= sigma;
+        C.vmult_add(work.b, work.a);  // (C + sigma M) r1
+        scatter(r, n, work.c);        // r2
+        work.b += work.c;
+        const auto t0 = std::chrono::steady_clock::now();
+        Q_inverse.solve(work.c, work.b);
+        solve_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        work.c *= -1.;                // y1
+        gather(work.c, y, 0);
+        for (std::size_t i = 0; i < n; ++i)
+          y[n + i] = r[i] + sigma * y[i];
+        ++applications;
+      }
+
+    private:
+      const PETScWrappers::MPI::SparseMatrix &M, &C;
+      const DirectSolver                     &Q_inverse;
+      double                                  sigma;
+      std::size_t                             n;
+      mutable Work                            work;
+      unsigned int                           &applications;
+
+    public:
+      mutable double solve_seconds = 0;
+    };
+
+    double
+    norm(const ComplexVector &v)
+    {
+      return std::sqrt(v.re.norm_sqr() + v.im.norm_sqr());
+    }
+  } // namespace
+
+  void
+  replicated_vmult(const PETScWrappers::MPI::SparseMatrix &A,
+                   const Vector<double>                   &x,
+                   Vector<double>                         &y)
+  {
+    Work work(A);
+    scatter(x, 0, work.a);
+    A.vmult(work.b, work.a);
+    y.reinit(x.size(), true);
+    gather(work.b, y, 0);
+  }
+
+  void
+  replicated_vmult(const PETScWrappers::MPI::SparseMatrix &A,
+                   const ComplexVector                    &x,
+                   ComplexVector                          &y)
+  {
+    replicated_vmult(A, x.re, y.re);
+    replicated_vmult(A, x.im, y.im);
+  }
+
+  void
+  DampedEigensolver::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Eigenproblem");
+    prm.declare_entry("Shift",
+                      "10",
+                      Patterns::Double(0.),
+                      "Real shift sigma of the shift-invert operator [Hz], > 0 "
+                      "(keeps Q(sigma) regular for free bodies). Modes come "
+                      "ordered by distance from it; keep it below the lowest "
+                      "frequency of interest.");
+    prm.declare_entry("Tolerance",
+                      "1e-10",
+                      Patterns::Double(0.),
+                      "ARPACK relative accuracy of the Ritz values [-].");
+    prm.declare_entry("Krylov size factor",
+                      "2",
+                      Patterns::Double(1.),
+                      "Arnoldi vectors = this times the number of eigenvalues "
+                      "requested (at least that number + 2) [-].");
+    prm.declare_entry("Maximum restarts",
+                      "300",
+                      Patterns::Integer(1),
+                      "Cap on ARPACK's implicit restarts per speed.");
+    prm.declare_entry("Backward error limit",
+                      "1e-6",
+                      Patterns::Double(0.),
+                      "A mode whose backward error ||Q(lambda) phi|| / "
+                      "((|lambda|^2 ||M|| + |lambda| ||C|| + ||K||) ||phi||) "
+                      "exceeds this is unconverged: the run stops with an "
+                      "error, keeping the speeds already done [-].");
+    prm.leave_subsection();
+  }
+
+  void
+  DampedEigensolver::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Eigenproblem");
+    sigma = 2 * M_PI * prm.get_double("Shift");
+    if (!(sigma > 0))
+      throw InputError("Eigenproblem/Shift = " + prm.get("Shift") +
+                       " Hz must be > 0: with sigma = 0 a free body makes "
+                       "Q(sigma) singular.");
+    tolerance          = prm.get_double("Tolerance");
+    krylov_factor      = prm.get_double("Krylov size factor");
+    max_restarts       = prm.get_integer("Maximum restarts");
+    max_backward_error = prm.get_double("Backward error limit");
+    prm.leave_subsection();
+    solver.set_type(DirectSolver::Type::mumps_lu); // Q(sigma) is unsymmetric (G)
+  }
+
+  std::vector<EigenPair>
+  DampedEigensolver::solve(const PETScWrappers::MPI::SparseMatrix &M,
+                           const PETScWrappers::MPI::SparseMatrix &C,
+                           const PETScWrappers::MPI::SparseMatrix &K,
+                           PETScWrappers::MPI::SparseMatrix       &Q,
+                           const unsigned int                      nev,
+                           Statistics                             &stats)
+  {
+    const std::size_t n = M.m();
+    using clock         = std::chrono::steady_clock;
+    const auto seconds  = [](const clock::time_point t0) {
+      return std::chrono::duration<double>(clock::now() - t0).count();
+    };
+    auto t0 = clock::now();
+    // Q(sigma) = K + sigma C + sigma^2 M: one pattern for all of them
+    MatCopy(K, Q, SAME_NONZERO_PATTERN);
+    MatAXPY(Q, sigma, C, SAME_NONZERO_PATTERN);
+    MatAXPY(Q, sigma * sigma, M, SAME_NONZERO_PATTERN);
+    solver.factorize(Q);
+    const double t_factor = seconds(t0);
+    t0                    = clock::now();
+
+    const unsigned int ncv = std::min<std::size_t>(
+      2 * n, std::max<unsigned int>(nev + 3, std::ceil(krylov_factor * nev)));
+    stats             = Statistics();
+    stats.factorization_seconds = t_factor;
+    stats.requested   = nev;
+    stats.krylov_size = ncv;
+
+    SolverControl control(max_restarts, tolerance, false, false);
+    ArpackSolver  arpack(control,
+                        ArpackSolver::AdditionalData(ncv,
+                                                     ArpackSolver::largest_magnitude,
+                                                     false));
+    arpack.set_shift(sigma);
+    StateMass                          B(M, n);
+    ShiftInvert                        inverse(M, C, solver, sigma, n, stats.operator_applications);
+    std::vector<Vector<double>>        z(nev + 1, Vector<double>(2 * n));
+    std::vector<std::complex<double>>  lambda(nev);
+    arpack.solve(B, B, inverse, lambda, z, nev);
+    stats.iterations      = control.last_step();
+    stats.arnoldi_seconds = seconds(t0);
+    stats.solve_seconds   = inverse.solve_seconds;
+    t0                    = clock::now();
+
+    // backward error of (lambda, phi) on the quadratic problem
+    const double norm_M = M.frobenius_norm(), norm_C = C.frobenius_norm(),
+                 norm_K = K.frobenius_norm();
+    const auto backward_error = [&](const std::complex<double> l, const ComplexVector &phi) {
+      ComplexVector Mp, Cp, Kp;
+      replicated_vmult(M, phi, Mp);
+      replicated_vmult(C, phi, Cp);
+      replicated_vmult(K, phi, Kp);
+      const std::complex<double> l2 = l * l;
+      Vector<double> re(n), im(n);
+      for (std::size_t i = 0; i < n; ++i)
+        {
+          const std::complex<double> r =
+            l2 * std::complex<double>(Mp.re[i], Mp.im[i]) +
+            l * std::complex<double>(Cp.re[i], Cp.im[i]) +
+            std::complex<double>(Kp.re[i], Kp.im[i]);
+          re[i] = r.real();
+          im[i] = r.imag();
+        }
+      const double scale =
+        (std::norm(l) * norm_M + std::abs(l) * norm_C + norm_K) * norm(phi);
+      return scale > 0 ? std::sqrt(re.norm_sqr() + im.norm_sqr()) / scale : 0.;
+    };
+
+    // dneupd stores a conjugate pair as Re, Im in consecutive vectors; which
+    // member they belong to is checked by the backward error (THEORY,
+    // correction 1). Only the Im >= 0 member is kept.
+    std::vector<EigenPair> pairs;
+    for (unsigned int j = 0; j < nev; ++j)
+      {
+        EigenPair p;
+        p.lambda = lambda[j];
+        p.phi.re.reinit(n);
+        p.phi.im.reinit(n);
+        std::copy(z[j].begin(), z[j].begin() + n, p.phi.re.begin());
+        const bool complex_pair = std::abs(lambda[j].imag()) > 1e-12 * std::abs(lambda[j]);
+        if (complex_pair)
+          {
+            // ArpackSolver returns nev vectors: the partner of the last
+            // value may be missing (one more value is always requested)
+            if (j + 1 >= nev)
+              break;
+            std::copy(z[j + 1].begin(), z[j + 1].begin() + n, p.phi.im.begin());
+            p.backward_error = backward_error(p.lambda, p.phi);
+            ComplexVector swapped{p.phi.re, p.phi.im};
+            swapped.im *= -1.;
+            const double other = backward_error(p.lambda, swapped);
+            if (other < p.backward_error)
+              {
+                p.phi            = swapped;
+                p.backward_error = other;
+              }
+            if (p.lambda.imag() < 0)
+              {
+                p.lambda = std::conj(p.lambda);
+                p.phi.im *= -1.;
+              }
+            ++j; // the conjugate partner
+          }
+        else
+          {
+            p.lambda         = std::complex<double>(lambda[j].real(), 0.);
+            p.backward_error = backward_error(p.lambda, p.phi);
+          }
+        const double scale = norm(p.phi);
+        if (scale > 0)
+          {
+            p.phi.re /= scale;
+            p.phi.im /= scale;
+          }
+        pairs.push_back(std::move(p));
+      }
+    stats.check_seconds = seconds(t0);
+    std::sort(pairs.begin(), pairs.end(), [](const EigenPair &a, const EigenPair &b) {
+      return std::abs(a.lambda) < std::abs(b.lambda);
+    });
+    return pairs;
+  }
+} // namespace rotorfit

@@ -1,0 +1,163 @@
+#include <rotorfit/eigen/rotor_matrices.h>
+
+#include <deal.II/base/quadrature_lib.h>
+
+#include <deal.II/fe/fe_values.h>
+
+#include <deal.II/lac/full_matrix.h>
+
+namespace rotorfit
+{
+  using namespace dealii;
+
+  void
+  RotorMatrices::reinit(const IndexSet               &owned_,
+                        const DynamicSparsityPattern &sparsity,
+                        const MPI_Comm                comm_)
+  {
+    owned = owned_;
+    pattern = &sparsity;
+    comm = comm_;
+    for (auto *m : {&mass, &stiffness, &gyroscopic, &convective})
+      reinit_like(*m);
+  }
+
+  void
+  RotorMatrices::reinit_like(PETScWrappers::MPI::SparseMatrix &m) const
+  {
+    m.reinit(owned, owned, *pattern, comm);
+  }
+
+  void
+  RotorMatrices::assemble(const DoFHandler<3> &dof_handler,
+                          const Mapping<3>    &mapping,
+                          const Bodies        &bodies)
+  {
+    const auto &fe = dof_handler.get_fe();
+    // the same rule as the static solve: the cancellation of K_sigma and
+    // Omega^2 K_theta on rigid tilt needs consistent integration (THEORY 0)
+    const QGaussSimplex<3> quadrature(fe.degree + 2);
+    FEValues<3>            fe_values(mapping,
+                          fe,
+                          quadrature,
+                          update_values | update_gradients |
+                            update_quadrature_points | update_JxW_values);
+    const FEValuesExtractors::Vector disp(0);
+    const unsigned int               n = fe.n_dofs_per_cell();
+    FullMatrix<double> cell_m(n, n), cell_k(n, n), cell_g(n, n), cell_t(n, n);
+    std::vector<types::global_dof_index> dofs(n);
+    std::vector<unsigned int>            comp(n);
+    for (unsigned int i = 0; i < n; ++i)
+      comp[i] = fe.system_to_component_index(i).first;
+    std::vector<SymmetricTensor<2, 3>> eps(n);
+    std::vector<double>                div(n), value(n), d_theta(n);
+
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          fe_values.reinit(cell);
+          cell->get_dof_indices(dofs);
+          const Body  &body   = bodies[cell->material_id()];
+          const double lambda = body.lambda(), mu = body.mu(), rho = body.density;
+          cell_m = 0;
+          cell_k = 0;
+          cell_g = 0;
+          cell_t = 0;
+          for (unsigned int q = 0; q < quadrature.size(); ++q)
+            {
+              const double       JxW = fe_values.JxW(q);
+              const Point<3>    &x   = fe_values.quadrature_point(q);
+              const Tensor<1, 3> t({-x[1], x[0], 0.}); // e_z x x
+              for (unsigned int i = 0; i < n; ++i)
+                {
+                  eps[i]     = fe_values[disp].symmetric_gradient(i, q);
+                  div[i]     = trace(eps[i]);
+                  value[i]   = fe_values.shape_value(i, q);
+                  d_theta[i] = fe_values.shape_grad(i, q) * t;
+                }
+              for (unsigned int i = 0; i < n; ++i)
+                for (unsigned int j = 0; j < n; ++j)
+                  {
+                    cell_k(i, j) += (lambda * div[i] * div[j] +
+                                     2 * mu * scalar_product(eps[i], eps[j])) * JxW;
+                    if (comp[i] != comp[j])
+                      continue;
+                    cell_m(i, j) += rho * value[i] * value[j] * JxW;
+                    cell_g(i, j) += 2 * rho * value[i] * d_theta[j] * JxW;
+                    cell_t(i, j) += rho * d_theta[i] * d_theta[j] * JxW;
+                  }
+            }
+          // G <- (G - G^T)/2 cell by cell: the faceted boundary leaves a
+          // symmetric part that would act as spurious damping (THEORY P4)
+          for (unsigned int i = 0; i < n; ++i)
+            for (unsigned int j = 0; j < i; ++j)
+              {
+                const double skew = 0.5 * (cell_g(i, j) - cell_g(j, i));
+                cell_g(i, j)      = skew;
+                cell_g(j, i)      = -skew;
+              }
+          for (unsigned int i = 0; i < n; ++i)
+            cell_g(i, i) = 0;
+          mass.add(dofs, cell_m);
+          stiffness.add(dofs, cell_k);
+          gyroscopic.add(dofs, cell_g);
+          convective.add(dofs, cell_t);
+        }
+    for (auto *m : {&mass, &stiffness, &gyroscopic, &convective})
+      m->compress(VectorOperation::add);
+  }
+
+  void
+  RotorMatrices::assemble_stress_stiffness(const DoFHandler<3>              &dof_handler,
+                                           const Mapping<3>                 &mapping,
+                                           const Bodies                     &bodies,
+                                           const PETScWrappers::MPI::Vector &u,
+                                           PETScWrappers::MPI::SparseMatrix &k_sigma) const
+  {
+    reinit_like(k_sigma);
+    const auto            &fe = dof_handler.get_fe();
+    const QGaussSimplex<3> quadrature(fe.degree + 2);
+    FEValues<3>            fe_values(mapping,
+                          fe,
+                          quadrature,
+                          update_gradients | update_JxW_values);
+    const FEValuesExtractors::Vector disp(0);
+    const unsigned int               n = fe.n_dofs_per_cell();
+    FullMatrix<double>               cell_s(n, n);
+    std::vector<types::global_dof_index> dofs(n);
+    std::vector<unsigned int>            comp(n);
+    for (unsigned int i = 0; i < n; ++i)
+      comp[i] = fe.system_to_component_index(i).first;
+    std::vector<SymmetricTensor<2, 3>> strain(quadrature.size());
+    std::vector<Tensor<1, 3>>          grad(n);
+
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          fe_values.reinit(cell);
+          cell->get_dof_indices(dofs);
+          fe_values[disp].get_function_symmetric_gradients(u, strain);
+          const Body &body = bodies[cell->material_id()];
+          cell_s           = 0;
+          for (unsigned int q = 0; q < quadrature.size(); ++q)
+            {
+              // pre-stress at the quadrature point (no projection, THEORY 3)
+              const SymmetricTensor<2, 3> sigma =
+                body.lambda() * trace(strain[q]) * unit_symmetric_tensor<3>() +
+                2 * body.mu() * strain[q];
+              const double JxW = fe_values.JxW(q);
+              for (unsigned int i = 0; i < n; ++i)
+                grad[i] = fe_values.shape_grad(i, q);
+              for (unsigned int i = 0; i < n; ++i)
+                {
+                  const Tensor<1, 3> s_grad = sigma * grad[i];
+                  for (unsigned int j = 0; j < n; ++j)
+                    if (comp[i] == comp[j])
+                      cell_s(i, j) += (s_grad * grad[j]) * JxW;
+                }
+            }
+          k_sigma.add(dofs, cell_s);
+        }
+    k_sigma.compress(VectorOperation::add);
+  }
+} // namespace rotorfit
