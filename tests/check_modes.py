@@ -16,9 +16,14 @@ tolerance is an argument, stated in tests/CMakeLists.txt.
   check_modes.py pair_shift EXE PRM_A OUT_A PRM_B OUT_B RPM PAIR MIN MAX
       f_A - f_B of the PAIR-th whirl pair (backward and forward) at RPM lies in
       [MIN, MAX] Hz.
+  check_modes.py stiffening EXE PRM_ON PRM_OFF PRM_KSIG OUT RPM
+      consistent stress stiffening moves the first two pairs by < 0.05 Hz;
+      K_sigma alone raises the tilt pair by 4..10 Hz and puts twist at 1X.
   check_modes.py loss_of_fit EXE PRM OUT BODY
       after the fit opens: the run says so, rows have fit_state = open and the
       loose BODY's modes are listed apart.
+  check_modes.py fixed EXE PRM OUT N_MODES
+      'fixed' contact: N_MODES assembly modes at every speed, none loose.
   check_modes.py mpi EXE PRM OUT1 OUT2 RTOL ATOL
       campbell.csv with 1 and 2 MPI ranks agree (numdiff).
   check_modes.py failure EXE PRM OUT TEXT
@@ -221,6 +226,36 @@ def check_pair_shift(exe, prm_a, out_a, prm_b, out_b, rpm, pair, lo, hi):
     return 0 if ok else 1
 
 
+def check_stiffening(exe, prm_on, prm_off, prm_ksig, out, rpm):
+    """Consistent stress stiffening (K_sigma with -Omega^2 K_theta) against
+    none: whirl pairs 1 and 2 move by less than 0.05 Hz. K_sigma alone: pair 2
+    (tilt) rises by 4..10 Hz, and rigid twist becomes a line at 1X (P2)."""
+    rpm = float(rpm)
+    tables = {}
+    for name, prm in (("on", prm_on), ("off", prm_off), ("ksig", prm_ksig)):
+        run_test.run(exe, prepare(prm, out + "_" + name))
+        tables[name] = rows(out + "_" + name)
+    on, off, ksig = (whirl_pairs(tables[n], rpm) for n in ("on", "off", "ksig"))
+    ok = True
+    for p in range(2):
+        for i, w in enumerate(("backward", "forward")):
+            d = on[p][i] - off[p][i]
+            good = abs(d) < 0.05
+            print(f"consistent stiffening, pair {p + 1} {w}: {on[p][i]:.6f} - {off[p][i]:.6f} = "
+                  f"{d:+.2e} Hz (|.| < 0.05) {'ok' if good else 'FAILED'}")
+            ok &= good
+    for i, w in enumerate(("backward", "forward")):
+        d = ksig[1][i] - off[1][i]
+        good = 4 <= d <= 10
+        print(f"K_sigma alone, pair 2 {w}: {ksig[1][i]:.4f} - {off[1][i]:.4f} = {d:+.3f} Hz "
+              f"(4..10) {'ok' if good else 'FAILED'}")
+        ok &= good
+    twist = [float(r["frequency_hz"]) for r in at(tables["ksig"], rpm) if r["whirl"] == "non-lateral"]
+    ok &= report("K_sigma alone: torsion line at 1X [Hz]",
+                 min(twist, key=lambda f: abs(f - rpm / 60)) if twist else 0.0, rpm / 60, 0.005)
+    return 0 if ok else 1
+
+
 def check_loss_of_fit(exe, prm, out, body):
     run_test.run(exe, prepare(prm, out))
     log = open(os.path.join(out, "log.txt")).read()
@@ -235,6 +270,27 @@ def check_loss_of_fit(exe, prm, out, body):
              and float(r["speed_rpm"]) == last]
     print(f"loose-body modes of {body} at {last:g} r/min: {len(loose)}")
     ok &= len(loose) >= 6
+    return 0 if ok else 1
+
+
+def check_fixed(exe, prm, out, n_modes):
+    """'fixed' ties: every speed has N_MODES whirl modes, none of them a
+    loose-body mode, and the rows say fit_state as computed statically."""
+    run_test.run(exe, prepare(prm, out))
+    table = rows(out)
+    ok = True
+    for rpm in speeds(table):
+        n = len(at(table, rpm))
+        good = n == int(n_modes)
+        print(f"{rpm:g} r/min: {n} whirl modes (expected {n_modes}) {'ok' if good else 'FAILED'}")
+        ok &= good
+    loose = [r for r in rows(out, "rigid_modes.csv") if r["kind"] == "loose"]
+    print(f"loose-body modes: {len(loose)} (expected 0)")
+    ok &= not loose
+    first, last = speeds(table)[0], speeds(table)[-1]
+    a, b = whirl_pairs(table, first), whirl_pairs(table, last)
+    for i in range(min(len(a), len(b))):
+        print(f"pair {i + 1}: {a[i]} Hz at {first:g} r/min -> {b[i]} Hz at {last:g} r/min")
     return 0 if ok else 1
 
 
@@ -262,7 +318,8 @@ if __name__ == "__main__":
     mode, args = sys.argv[1], sys.argv[2:]
     checks = {"timoshenko": check_timoshenko, "rigid_rotor": check_rigid_rotor,
               "free_spin": check_free_spin, "pair_shift": check_pair_shift,
-              "loss_of_fit": check_loss_of_fit, "mpi": check_mpi, "failure": check_failure}
+              "loss_of_fit": check_loss_of_fit, "fixed": check_fixed,
+              "stiffening": check_stiffening, "mpi": check_mpi, "failure": check_failure}
     if mode not in checks:
         sys.exit(f"unknown mode {mode}")
     sys.exit(checks[mode](*args))

@@ -309,13 +309,17 @@ namespace rotorfit
               break;
             std::copy(z[j + 1].begin(), z[j + 1].begin() + n, p.phi.im.begin());
             p.backward_error = backward_error(p.lambda, p.phi);
-            ComplexVector swapped{p.phi.re, p.phi.im};
-            swapped.im *= -1.;
-            const double other = backward_error(p.lambda, swapped);
-            if (other < p.backward_error)
+            if (!(p.backward_error <= max_backward_error))
               {
-                p.phi            = swapped;
-                p.backward_error = other;
+                // the other member of the pair (ARPACK versions differ)
+                ComplexVector swapped{p.phi.re, p.phi.im};
+                swapped.im *= -1.;
+                const double other = backward_error(p.lambda, swapped);
+                if (other < p.backward_error)
+                  {
+                    p.phi            = swapped;
+                    p.backward_error = other;
+                  }
               }
             if (p.lambda.imag() < 0)
               {

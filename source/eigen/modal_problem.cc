@@ -92,6 +92,13 @@ namespace rotorfit
                       "state); 'interference + centrifugal', which also adds "
                       "the convective term -Omega^2 K_theta (they cancel on "
                       "rigid tilt: both or neither, THEORY 4.3).");
+    prm.declare_entry("Convective stiffness",
+                      "true",
+                      Patterns::Bool(),
+                      "With centrifugal stress stiffening, add -Omega^2 K_theta. "
+                      "'false' only to reproduce codes that add K_sigma alone in "
+                      "the stationary frame: that stiffens rigid tilt by "
+                      "Omega^2 Ip/2 and twist by Omega^2 Ip (THEORY 4.5, P2).");
     prm.declare_entry("Rigid-body threshold",
                       "1",
                       Patterns::Double(0.),
@@ -154,6 +161,7 @@ namespace rotorfit
                  s == "interference only"   ? StressStiffening::interference :
                                               StressStiffening::full;
     rigid_threshold_hz = prm.get_double("Rigid-body threshold");
+    convective_term    = prm.get_bool("Convective stiffness");
     n_stations         = prm.get_integer("Whirl stations");
     mac_threshold      = prm.get_double("MAC threshold");
     orders.clear();
@@ -285,6 +293,7 @@ namespace rotorfit
         << (contact_model == ContactModel::bonded       ? "bonded" :
             contact_model == ContactModel::frictionless ? "frictionless" :
             contact_model == ContactModel::fixed        ? "fixed" : "frozen")
+        << (convective_term ? "" : ", NO convective stiffness (K_sigma alone, for comparison)")
         << ", stress stiffening "
         << (stiffening == StressStiffening::off          ? "off" :
             stiffening == StressStiffening::interference ? "interference only" :
@@ -410,7 +419,7 @@ namespace rotorfit
             k_sigma_serial = 0;
             MatAXPY(tangent, 1., k_sigma_I, SAME_NONZERO_PATTERN);
           }
-        if (stiffening == StressStiffening::full)
+        if (stiffening == StressStiffening::full && convective_term)
           MatAXPY(tangent, -w, matrices.convective, SAME_NONZERO_PATTERN);
       }
 

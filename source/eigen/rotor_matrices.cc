@@ -1,4 +1,5 @@
 #include <rotorfit/eigen/rotor_matrices.h>
+#include <rotorfit/material/elasticity.h>
 
 #include <deal.II/base/quadrature_lib.h>
 
@@ -42,15 +43,14 @@ namespace rotorfit
                           quadrature,
                           update_values | update_gradients |
                             update_quadrature_points | update_JxW_values);
-    const FEValuesExtractors::Vector disp(0);
-    const unsigned int               n = fe.n_dofs_per_cell();
+    const unsigned int n = fe.n_dofs_per_cell();
     FullMatrix<double> cell_m(n, n), cell_k(n, n), cell_g(n, n), cell_t(n, n);
     std::vector<types::global_dof_index> dofs(n);
     std::vector<unsigned int>            comp(n);
     for (unsigned int i = 0; i < n; ++i)
       comp[i] = fe.system_to_component_index(i).first;
     std::vector<SymmetricTensor<2, 3>> eps(n);
-    std::vector<double>                div(n), value(n), d_theta(n);
+    std::vector<double>                value(n), d_theta(n);
 
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
@@ -68,18 +68,15 @@ namespace rotorfit
               const double       JxW = fe_values.JxW(q);
               const Point<3>    &x   = fe_values.quadrature_point(q);
               const Tensor<1, 3> t({-x[1], x[0], 0.}); // e_z x x
+              add_elastic_stiffness(fe_values, q, lambda, mu, cell_k, eps);
               for (unsigned int i = 0; i < n; ++i)
                 {
-                  eps[i]     = fe_values[disp].symmetric_gradient(i, q);
-                  div[i]     = trace(eps[i]);
                   value[i]   = fe_values.shape_value(i, q);
                   d_theta[i] = fe_values.shape_grad(i, q) * t;
                 }
               for (unsigned int i = 0; i < n; ++i)
                 for (unsigned int j = 0; j < n; ++j)
                   {
-                    cell_k(i, j) += (lambda * div[i] * div[j] +
-                                     2 * mu * scalar_product(eps[i], eps[j])) * JxW;
                     if (comp[i] != comp[j])
                       continue;
                     cell_m(i, j) += rho * value[i] * value[j] * JxW;

@@ -1,5 +1,6 @@
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/constraints/cylindrical_constraints.h>
+#include <rotorfit/material/elasticity.h>
 #include <rotorfit/statics/static_problem.h>
 
 #include <deal.II/base/mpi.h>
@@ -213,7 +214,6 @@ namespace rotorfit
     Vector<double>                   cell_f(n);
     std::vector<types::global_dof_index> dofs(n);
     std::vector<SymmetricTensor<2, 3>>   eps(n);
-    std::vector<double>                  div(n);
     std::vector<Tensor<1, 3>>            phi(n);
     std::vector<double> mass(bodies.size(), 0.), polar(bodies.size(), 0.);
 
@@ -234,31 +234,17 @@ namespace rotorfit
               const Tensor<1, 3> r_perp({x[0], x[1], 0.});
               mass[cell->material_id()] += rho * JxW;
               polar[cell->material_id()] += rho * (x[0] * x[0] + x[1] * x[1]) * JxW;
+              add_elastic_stiffness(fe_values, q, lambda, mu, cell_k, eps);
               for (unsigned int i = 0; i < n; ++i)
                 {
-                  eps[i] = fe_values[disp].symmetric_gradient(i, q);
-                  div[i] = trace(eps[i]);
                   phi[i] = fe_values[disp].value(i, q);
-                }
-              for (unsigned int i = 0; i < n; ++i)
-                {
-                  for (unsigned int j = 0; j <= i; ++j)
-                    {
-                      const double k = (lambda * div[i] * div[j] +
-                                        2 * mu * scalar_product(eps[i], eps[j])) * JxW;
-                      cell_k(i, j) += k;
-                      if (spin_softening)
-                        cell_m(i, j) += rho * (phi[i][0] * phi[j][0] + phi[i][1] * phi[j][1]) * JxW;
-                    }
                   cell_f(i) += rho * (phi[i] * r_perp) * JxW;
                 }
+              if (spin_softening)
+                for (unsigned int i = 0; i < n; ++i)
+                  for (unsigned int j = 0; j < n; ++j)
+                    cell_m(i, j) += rho * (phi[i][0] * phi[j][0] + phi[i][1] * phi[j][1]) * JxW;
             }
-          for (unsigned int i = 0; i < n; ++i)
-            for (unsigned int j = i + 1; j < n; ++j)
-              {
-                cell_k(i, j) = cell_k(j, i);
-                cell_m(i, j) = cell_m(j, i);
-              }
           for (unsigned int i = 0; i < n; ++i)
             stiffness_diagonal[dofs[i]] += cell_k(i, i);
           constraints.distribute_local_to_global(cell_k, cell_f, dofs, stiffness,

@@ -125,6 +125,7 @@ namespace rotorfit
     bool                      write_shapes  = true;
     bool                      plot          = true;
     bool                      self_check    = false;
+    bool                      convective_term = true;
     std::vector<std::pair<std::string, double>> checks;
     std::string               output_dir;
 
