@@ -11,6 +11,9 @@ tolerance is an argument, stated in tests/CMakeLists.txt.
       stiff short cylinder on two bearings at its end faces: translation,
       forward/backward tilt and translation damping within TOL of THEORY 10d at
       every speed, forward rising and backward falling, 1X critical speeds.
+  check_modes.py bearing_table EXE PRM OUT TOL
+      rigid rotor on tabulated bearings: translation frequency and damping
+      follow the interpolated k(Omega), c(Omega) within TOL.
   check_modes.py free_spin EXE PRM OUT TOL
       spinning free cylinder: forward tilt at Omega Ip/Id (THEORY 10e-1).
   check_modes.py pair_shift EXE PRM_A OUT_A PRM_B OUT_B RPM PAIR MIN MAX
@@ -83,12 +86,15 @@ def report(name, got, expected, tol):
 
 
 def prepare(prm, out, replace=None):
+    """A copy of PRM writing to OUT, its input files made absolute."""
     copy = run_test.set_output(prm, out)
-    if replace:
-        text = open(copy).read()
-        for a, b in replace:
-            text = re.sub(a, b, text)
-        open(copy, "w").write(text)
+    base = os.path.dirname(os.path.abspath(prm))
+    replace = (replace or []) + [(r"(set Coefficient table\s*=\s*)(\S+)",
+                                  lambda m: m.group(1) + os.path.join(base, m.group(2)))]
+    text = open(copy).read()
+    for a, b in replace:
+        text = re.sub(a, b, text)
+    open(copy, "w").write(text)
     return copy
 
 
@@ -181,6 +187,36 @@ def check_rigid_rotor(exe, prm, out, tol):
             continue
         got = min(cand, key=lambda x: abs(x - s))
         ok &= report(f"1X critical speed, {name} [r/min]", got, s, 0.01)
+    return 0 if ok else 1
+
+
+def check_bearing_table(exe, prm, out, tol):
+    """Translation mode of the rigid rotor on tabulated bearings: frequency
+    sqrt(2 k/m) and damping ratio c/sqrt(2 k m) with k, c interpolated."""
+    run_test.run(exe, prepare(prm, out))
+    text = open(prm).read()
+    m, Ip, Id = cylinder(text)
+    table = []
+    for line in open(os.path.join(os.path.dirname(prm), "bearing_table.csv")):
+        if line.strip() and not line.startswith("#") and "speed" not in line:
+            table.append([float(x) for x in line.split(",")])
+    def interp(rpm, col):
+        if rpm >= table[-1][0]:
+            return table[-1][col]
+        for a, b in zip(table, table[1:]):
+            if a[0] <= rpm <= b[0]:
+                t = (rpm - a[0]) / (b[0] - a[0])
+                return (1 - t) * a[col] + t * b[col]
+        return table[0][col]
+    ok = True
+    result = rows(out)
+    for rpm in speeds(result):
+        k, c = interp(rpm, 1), interp(rpm, 5)
+        f = math.sqrt(2 * k / m) / (2 * math.pi)
+        cand = min(at(result, rpm), key=lambda x: abs(float(x["frequency_hz"]) - f))
+        ok &= report(f"{rpm:g} r/min translation [Hz]", float(cand["frequency_hz"]), f, float(tol))
+        ok &= report(f"{rpm:g} r/min translation damping ratio", float(cand["damping_ratio"]),
+                     c / math.sqrt(2 * k * m), float(tol))
     return 0 if ok else 1
 
 
@@ -319,7 +355,7 @@ if __name__ == "__main__":
     checks = {"timoshenko": check_timoshenko, "rigid_rotor": check_rigid_rotor,
               "free_spin": check_free_spin, "pair_shift": check_pair_shift,
               "loss_of_fit": check_loss_of_fit, "fixed": check_fixed,
-              "stiffening": check_stiffening, "mpi": check_mpi, "failure": check_failure}
+              "stiffening": check_stiffening, "bearing_table": check_bearing_table, "mpi": check_mpi, "failure": check_failure}
     if mode not in checks:
         sys.exit(f"unknown mode {mode}")
     sys.exit(checks[mode](*args))
