@@ -239,6 +239,10 @@ namespace rotorfit
     // P2 vertex pairs carry almost no force (int psi_i dA = 0), so the sign
     // of their multiplier is noise; the pressure field p = M^-1 N is smooth
     // and decides which pairs are open
+    // the decomposition holds everything later speeds need: a new active set
+    // gets a new factorisation anyway, so this one is freed now (it would sit
+    // next to the eigenproblem's LU)
+    solver.release();
     next.pressure_I = pairs->pressure(next.force_I);
     next.pressure_C = pairs->pressure(next.force_C);
     next.valid      = true;

@@ -44,6 +44,13 @@ namespace rotorfit
     void
     factorize(const dealii::PETScWrappers::MPI::SparseMatrix &matrix);
 
+    /// Free the factorisation (counters are kept).
+    void
+    release()
+    {
+      destroy();
+    }
+
     /// x = A^{-1} b with the current factorisation.
     void
     solve(dealii::PETScWrappers::MPI::Vector       &x,
