@@ -145,7 +145,7 @@ namespace rotorfit
         const std::string dir =
           std::filesystem::path(file).parent_path().string();
         problem.parse_parameters(prm, dir.empty() ? "." : dir);
-        modal.parse_parameters(prm, dir.empty() ? "." : dir, problem.spin_softening_on());
+        modal.parse_parameters(prm, dir.empty() ? "." : dir);
         if (!validate)
           {
             std::string error;

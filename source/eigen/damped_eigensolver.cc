@@ -268,8 +268,9 @@ namespace rotorfit
     // backward error of (lambda, phi) on the quadratic problem
     const double norm_M = M.frobenius_norm(), norm_C = C.frobenius_norm(),
                  norm_K = K.frobenius_norm();
-    const auto backward_error = [&](const std::complex<double> l, const ComplexVector &phi) {
-      ComplexVector Mp, Cp, Kp;
+    const auto backward_error = [&](const std::complex<double> l, const ComplexVector &phi,
+                                    ComplexVector &Mp) {
+      ComplexVector Cp, Kp;
       replicated_vmult(M, phi, Mp);
       replicated_vmult(C, phi, Cp);
       replicated_vmult(K, phi, Kp);
@@ -308,16 +309,17 @@ namespace rotorfit
             if (j + 1 >= nev)
               break;
             std::copy(z[j + 1].begin(), z[j + 1].begin() + n, p.phi.im.begin());
-            p.backward_error = backward_error(p.lambda, p.phi);
+            p.backward_error = backward_error(p.lambda, p.phi, p.m_phi);
             if (!(p.backward_error <= max_backward_error))
               {
                 // the other member of the pair (ARPACK versions differ)
-                ComplexVector swapped{p.phi.re, p.phi.im};
+                ComplexVector swapped{p.phi.re, p.phi.im}, m_swapped;
                 swapped.im *= -1.;
-                const double other = backward_error(p.lambda, swapped);
+                const double other = backward_error(p.lambda, swapped, m_swapped);
                 if (other < p.backward_error)
                   {
                     p.phi            = swapped;
+                    p.m_phi          = m_swapped;
                     p.backward_error = other;
                   }
               }
@@ -325,20 +327,19 @@ namespace rotorfit
               {
                 p.lambda = std::conj(p.lambda);
                 p.phi.im *= -1.;
+                p.m_phi.im *= -1.;
               }
             ++j; // the conjugate partner
           }
         else
           {
             p.lambda         = std::complex<double>(lambda[j].real(), 0.);
-            p.backward_error = backward_error(p.lambda, p.phi);
+            p.backward_error = backward_error(p.lambda, p.phi, p.m_phi);
           }
         const double scale = norm(p.phi);
         if (scale > 0)
-          {
-            p.phi.re /= scale;
-            p.phi.im /= scale;
-          }
+          for (auto *v : {&p.phi.re, &p.phi.im, &p.m_phi.re, &p.m_phi.im})
+            *v /= scale;
         pairs.push_back(std::move(p));
       }
     stats.check_seconds = seconds(t0);

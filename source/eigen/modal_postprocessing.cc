@@ -176,11 +176,11 @@ namespace rotorfit
     data_out.build_patches(statics.assembly_mesh().mapping(),
                            statics.assembly_mesh().element_order());
     const std::string name =
-      data_out.write_vtu_with_pvtu_record(output_dir + "/", "modes", step, comm, 4, 0);
+      data_out.write_vtu_with_pvtu_record(statics.output_directory() + "/", "modes", step, comm, 4, 0);
     pvd_records.emplace_back(rpm, name);
     if (root)
       {
-        std::ofstream pvd(output_dir + "/modes.pvd");
+        std::ofstream pvd(statics.output_directory() + "/modes.pvd");
         DataOutBase::write_pvd_record(pvd, pvd_records);
       }
   }
@@ -249,7 +249,7 @@ namespace rotorfit
       return;
     if (root)
       {
-        std::ofstream summary(output_dir + "/summary.txt", std::ios::app);
+        std::ofstream summary(statics.output_directory() + "/summary.txt", std::ios::app);
         summary << std::setprecision(12);
         for (const auto &[key, value] : checks)
           summary << key << ' ' << value << '\n';
@@ -264,12 +264,12 @@ namespace rotorfit
     if (plot && root)
       {
         const std::string command = std::string(ROTORFIT_PYTHON) + " " +
-                                    ROTORFIT_PLOT_SCRIPT + " '" + output_dir +
-                                    "' > '" + output_dir + "/plot.log' 2>&1";
+                                    ROTORFIT_PLOT_SCRIPT + " '" + statics.output_directory() +
+                                    "' > '" + statics.output_directory() + "/plot.log' 2>&1";
         if (std::system(command.c_str()) == 0)
-          log << "Campbell diagram: " << output_dir << "/campbell.png\n";
+          log << "Campbell diagram: " << statics.output_directory() << "/campbell.png\n";
         else
-          log << "Warning: campbell.png could not be drawn (see " << output_dir
+          log << "Warning: campbell.png could not be drawn (see " << statics.output_directory()
               << "/plot.log; needs python3-matplotlib); campbell.csv is complete.\n";
       }
   }

@@ -31,8 +31,8 @@ namespace rotorfit
   ModalProblem::ModalProblem(StaticProblem &statics, Log &log)
     : statics(statics)
     , log(log)
-    , comm(MPI_COMM_WORLD)
-    , root(Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
+    , comm(statics.mpi_communicator())
+    , root(Utilities::MPI::this_mpi_process(statics.mpi_communicator()) == 0)
   {}
 
   void
@@ -125,8 +125,7 @@ namespace rotorfit
 
   void
   ModalProblem::parse_parameters(ParameterHandler  &prm,
-                                 const std::string &prm_directory,
-                                 const bool         spin_softening)
+                                 const std::string &prm_directory)
   {
     bearings.parse_parameters(prm, prm_directory);
     eigensolver.parse_parameters(prm);
@@ -154,9 +153,6 @@ namespace rotorfit
     plot         = prm.get_bool("Campbell plot");
     self_check   = prm.get_bool("Self-check");
     prm.leave_subsection();
-    prm.enter_subsection("Output");
-    output_dir = prm.get("Directory");
-    prm.leave_subsection();
 
     if (!(contact_scale > 0))
       throw InputError("Eigenproblem/Contact penalty scale = " +
@@ -170,7 +166,7 @@ namespace rotorfit
         s + "' produces spurious twist and tilt modes (some unstable) because "
             "normal-only ties carry no contact geometric stiffness; use "
             "Contact model = bonded, or Stress stiffening = off.");
-    if (compute && spin_softening && stiffening == StressStiffening::interference)
+    if (compute && statics.spin_softening_on() && stiffening == StressStiffening::interference)
       throw InputError("Eigenproblem/Stress stiffening = interference only needs "
                        "Physics/Spin softening = false (with spin softening "
                        "the static solution does not split into interference "
@@ -296,10 +292,10 @@ namespace rotorfit
   {
     TimerOutput::Scope t(statics.timer_output(), "eigen: assembly (M, K, G, K_theta)");
     matrices.assemble(statics.dofs(), statics.assembly_mesh().mapping(), statics.body_list());
-    campbell.open(output_dir, root, orders, mac_threshold);
+    campbell.open(statics.output_directory(), root, orders, mac_threshold);
     if (root)
       {
-        std::ofstream rigid(output_dir + "/rigid_modes.csv");
+        std::ofstream rigid(statics.output_directory() + "/rigid_modes.csv");
         rigid << "speed_rpm,kind,body,real_part_per_s,frequency_hz,backward_error\n";
       }
   }
@@ -494,7 +490,7 @@ namespace rotorfit
     const auto        &bodies = statics.body_list();
     std::ofstream      rigid;
     if (root)
-      rigid.open(output_dir + "/rigid_modes.csv", std::ios::app);
+      rigid.open(statics.output_directory() + "/rigid_modes.csv", std::ios::app);
     rigid << std::setprecision(10);
     std::vector<WhirlMode> elastic;
     unsigned int           n_rigid = 0, n_loose = 0, n_overdamped = 0, unconverged = 0;
@@ -507,7 +503,7 @@ namespace rotorfit
         WhirlMode m;
         m.lambda         = p.lambda;
         m.backward_error = p.backward_error;
-        replicated_vmult(matrices.mass, p.phi, m.m_phi);
+        m.m_phi          = std::move(p.m_phi);
         // kinetic energy share per body: M is block diagonal by body
         std::vector<double> energy(bodies.size(), 0.);
         for (std::size_t i = 0; i < p.phi.re.size(); ++i)

@@ -24,7 +24,8 @@ namespace rotorfit
   struct EigenPair
   {
     std::complex<double> lambda; ///< [rad/s]; Im >= 0 member of a pair
-    ComplexVector        phi;    ///< displacement part of the state vector
+    ComplexVector        phi;    ///< displacement part of the state vector, |phi| = 1
+    ComplexVector        m_phi;  ///< M phi (from the backward error, reused for MAC/energies)
     double               backward_error = 0;
   };
 

@@ -54,10 +54,10 @@ namespace rotorfit
     static void
     declare_parameters(dealii::ParameterHandler &prm);
 
+    /// After StaticProblem::parse_parameters() (output directory, spin softening).
     void
     parse_parameters(dealii::ParameterHandler &prm,
-                     const std::string        &prm_directory,
-                     const bool                spin_softening);
+                     const std::string        &prm_directory);
 
     bool
     enabled() const
@@ -127,7 +127,6 @@ namespace rotorfit
     bool                      self_check    = false;
     bool                      convective_term = true;
     std::vector<std::pair<std::string, double>> checks;
-    std::string               output_dir;
 
     Bearings          bearings;
     DampedEigensolver eigensolver;

@@ -122,6 +122,11 @@ namespace rotorfit
     {
       return spin_softening;
     }
+    MPI_Comm
+    mpi_communicator() const
+    {
+      return comm;
+    }
     dealii::TimerOutput &
     timer_output()
     {
