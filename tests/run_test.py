@@ -119,6 +119,32 @@ def ratio(exe, prm_a, out_a, prm_b, out_b, keys, expected, rtol):
     return 1 if failed else 0
 
 
+def softening(exe, prm_off, out_off, prm_on, out_on, lame_args, rtol, shift_rtol):
+    """Plane-strain fit with spin softening off and on: each loss of fit
+    within RTOL of its exact value (tests/lame.py), and the shift
+    on/off - 1 within SHIFT_RTOL of the exact shift (same mesh, so the
+    discretisation error of the speed itself cancels)."""
+    import lame
+    args = [float(a) for a in lame_args.split(",")]
+    exact = {False: lame.loss_of_fit_rpm(args, False), True: lame.loss_of_fit_rpm(args, True)}
+    run(exe, prm_off)
+    run(exe, prm_on)
+    key = "interface.fit.loss_of_fit_rpm"
+    got = {False: summary_value(out_off, key), True: summary_value(out_on, key)}
+    ok = True
+    for s in (False, True):
+        e = got[s] / exact[s] - 1
+        print(f"spin softening {'on' if s else 'off'}: loss of fit {got[s]:.8g} vs {exact[s]:.8g} r/min "
+              f"({e:+.2e}, rtol {rtol})")
+        ok &= abs(e) <= float(rtol)
+    shift, shift_exact = got[True] / got[False] - 1, exact[True] / exact[False] - 1
+    e = shift / shift_exact - 1
+    print(f"shift on/off - 1: {shift:.5e} vs {shift_exact:.5e} ({e:+.2e}, rtol {shift_rtol})")
+    ok &= abs(e) <= float(shift_rtol)
+    print("spin softening:", "ok" if ok else "FAILED")
+    return 0 if ok else 1
+
+
 def error(exe, prm, expected):
     import tempfile
     r = subprocess.run([exe, "--validate", prm], capture_output=True, text=True)
@@ -140,6 +166,8 @@ if __name__ == "__main__":
         sys.exit(error(*args))
     elif mode == "falls":
         sys.exit(falls(*args))
+    elif mode == "softening":
+        sys.exit(softening(*args))
     elif mode == "ratio":
         sys.exit(ratio(*args))
     elif mode == "same":

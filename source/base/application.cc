@@ -181,11 +181,14 @@ namespace rotorfit
           }
         try
           {
-            problem.run([&](const unsigned int step,
-                            const double       rpm,
-                            const ContactSolver::State &state) {
-              modal.solve_speed(step, rpm, state);
-            });
+            StaticProblem::SpeedCallback eigen_step;
+            if (modal.enabled())
+              eigen_step = [&](const unsigned int          step,
+                               const double                rpm,
+                               const ContactSolver::State &state) {
+                modal.solve_speed(step, rpm, state);
+              };
+            problem.run(eigen_step);
             modal.finish();
           }
         catch (const InputError &)

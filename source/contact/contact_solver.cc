@@ -4,6 +4,7 @@
 
 #include <deal.II/lac/full_matrix.h>
 
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -12,6 +13,15 @@
 namespace rotorfit
 {
   using namespace dealii;
+
+  namespace
+  {
+    double
+    seconds_since(const std::chrono::steady_clock::time_point start)
+    {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+  } // namespace
 
   void
   ContactSolver::declare_parameters(ParameterHandler &prm)
@@ -45,6 +55,15 @@ namespace rotorfit
                       Patterns::Double(0.),
                       "Uzawa stops when max |gap| of the closed pairs is below "
                       "this times the interference [-].");
+    prm.declare_entry("Low-rank update limit",
+                      "0.25",
+                      Patterns::Double(0., 1.),
+                      "A changed active set is solved on the last "
+                      "factorisation by a low-rank (Woodbury) update while the "
+                      "changed pairs whose influence column is not known yet "
+                      "are at most this fraction of all pairs; above it the "
+                      "matrix is factorised again [-]. 0: factorise every "
+                      "active set.");
     prm.leave_subsection();
   }
 
@@ -60,6 +79,7 @@ namespace rotorfit
       prm.get_integer("Maximum active set iterations");
     max_uzawa_iterations = prm.get_integer("Maximum Uzawa iterations");
     uzawa_tolerance      = prm.get_double("Uzawa tolerance");
+    update_limit         = prm.get_double("Low-rank update limit");
     prm.leave_subsection();
     solver.parse_parameters(prm);
   }
@@ -99,88 +119,125 @@ namespace rotorfit
         epsilon[i]    = alpha * 0.5 * (k_s + k_h);
         owner_adds[i] = owned.is_element(p.shaft_dofs[0]);
       }
+    // b_i = +n on the hub node, -n on the shaft node, condensed by the
+    // (homogeneous, replicated) static constraints
+    projection.assign(list.size(), {});
+    for (unsigned int i = 0; i < list.size(); ++i)
+      {
+        const auto &p = list[i];
+        std::map<types::global_dof_index, double> b;
+        const std::pair<types::global_dof_index, double> raw[4] = {
+          {p.hub_dofs[0], p.normal[0]},
+          {p.hub_dofs[1], p.normal[1]},
+          {p.shaft_dofs[0], -p.normal[0]},
+          {p.shaft_dofs[1], -p.normal[1]}};
+        for (const auto &[dof, a] : raw)
+          if (constraints->is_constrained(dof))
+            {
+              if (const auto *entries = constraints->get_constraint_entries(dof))
+                for (const auto &[j, cj] : *entries)
+                  b[j] += a * cj;
+            }
+          else
+            b[dof] += a;
+        projection[i].assign(b.begin(), b.end());
+      }
+    first_owned = owned.nth_index_in_set(0);
+    end_owned   = first_owned + owned.n_elements();
+    Assert(owned.is_contiguous(), ExcInternalError());
+
     system_matrix.reinit(owned, owned, sparsity, comm);
     current = Decomposition();
     current.active.assign(list.size(), true); // at rest every pair is closed
+    base_valid = false;
+    column.assign(list.size(), {});
+    n_cached          = 0;
+    low_rank_updates  = 0;
+    influence_columns = 0;
+    times             = Timing();
   }
 
-  unsigned int
-  ContactSolver::solve_load_case(const PETScWrappers::MPI::Vector *base_load,
-                                 const double                      load_factor,
-                                 const bool                        with_interference,
-                                 const double                      gap_scale,
-                                 const std::vector<bool>          &active,
-                                 std::vector<double>              &force,
-                                 std::vector<double>              &gap,
-                                 PETScWrappers::MPI::Vector       &u)
+  std::vector<double>
+  ContactSolver::project(const PETScWrappers::MPI::Vector &x) const
   {
-    const auto  &list = pairs->pairs();
-    const bool   penalty = (contact_method == Method::penalty);
-    if (penalty)
-      std::fill(force.begin(), force.end(), 0.);
-    for (unsigned int i = 0; i < list.size(); ++i)
-      if (!active[i])
-        force[i] = 0;
-
-    PETScWrappers::MPI::Vector rhs(owned, comm);
-    PETScWrappers::MPI::Vector u_ghosted(owned, all_dofs, comm);
-    u.reinit(owned, comm);
-    unsigned int iterations = 0;
-    for (unsigned int k = 0; k < (penalty ? 1 : max_uzawa_iterations); ++k)
-      {
-        if (base_load != nullptr)
-          {
-            rhs = *base_load;
-            rhs *= load_factor;
-          }
-        else
-          rhs = 0;
-        Vector<double>                       local(4);
-        std::vector<types::global_dof_index> dofs(4);
-        for (unsigned int i = 0; i < list.size(); ++i)
-          if (active[i] && owner_adds[i])
-            {
-              const auto  &p = list[i];
-              const double delta = with_interference ? p.interference : 0.;
-              const double f     = force[i] + epsilon[i] * delta;
-              // B: +n on the hub node, -n on the shaft node
-              dofs  = {p.hub_dofs[0], p.hub_dofs[1], p.shaft_dofs[0], p.shaft_dofs[1]};
-              local[0] = f * p.normal[0];
-              local[1] = f * p.normal[1];
-              local[2] = -f * p.normal[0];
-              local[3] = -f * p.normal[1];
-              constraints->distribute_local_to_global(local, dofs, rhs);
-            }
-        rhs.compress(VectorOperation::add);
-        solver.solve(u, rhs);
-        constraints->distribute(u);
-        u_ghosted = u;
-
-        double worst = 0;
-        for (unsigned int i = 0; i < list.size(); ++i)
-          {
-            const auto  &p = list[i];
-            const double delta = with_interference ? p.interference : 0.;
-            gap[i] = p.normal[0] * (u_ghosted(p.hub_dofs[0]) - u_ghosted(p.shaft_dofs[0])) +
-                     p.normal[1] * (u_ghosted(p.hub_dofs[1]) - u_ghosted(p.shaft_dofs[1])) -
-                     delta;
-            if (active[i])
-              {
-                force[i] -= epsilon[i] * gap[i];
-                worst = std::max(worst, gap_scale * std::abs(gap[i]) / p.interference);
-              }
-          }
-        if (!penalty)
-          ++iterations;
-        if (penalty || worst <= uzawa_tolerance)
-          break;
-      }
-    return iterations;
+    std::vector<double> t(projection.size(), 0.);
+    const PetscScalar  *a;
+    VecGetArrayRead(x, &a);
+    for (unsigned int i = 0; i < projection.size(); ++i)
+      for (const auto &[dof, b] : projection[i])
+        if (dof >= first_owned && dof < end_owned)
+          t[i] += b * a[dof - first_owned];
+    VecRestoreArrayRead(x, &a);
+    Utilities::MPI::sum(t, comm, t);
+    return t;
   }
 
   void
-  ContactSolver::compute_decomposition(const std::vector<bool> &active,
-                                       const double             w)
+  ContactSolver::add_pair_forces(const std::vector<double>  &f,
+                                 PETScWrappers::MPI::Vector &rhs) const
+  {
+    PetscScalar *a;
+    VecGetArray(rhs, &a);
+    for (unsigned int i = 0; i < projection.size(); ++i)
+      if (f[i] != 0)
+        for (const auto &[dof, b] : projection[i])
+          if (dof >= first_owned && dof < end_owned)
+            a[dof - first_owned] += b * f[i];
+    VecRestoreArray(rhs, &a);
+  }
+
+  void
+  ContactSolver::compute_columns(const std::vector<unsigned int> &missing)
+  {
+    // blocks of right-hand sides: MUMPS passes the factors once per block
+    constexpr unsigned int block = 64;
+    const auto             start_time = std::chrono::steady_clock::now();
+    const PetscInt         n_local = end_owned - first_owned;
+    const PetscInt         n       = owned.size();
+    for (unsigned int start = 0; start < missing.size(); start += block)
+      {
+        const unsigned int m = std::min<unsigned int>(block, missing.size() - start);
+        Mat                B, X;
+        MatCreateDense(comm, n_local, PETSC_DECIDE, n, m, nullptr, &B);
+        MatCreateDense(comm, n_local, PETSC_DECIDE, n, m, nullptr, &X);
+        PetscScalar *b;
+        PetscInt     ld;
+        MatDenseGetLDA(B, &ld);
+        MatDenseGetArray(B, &b);
+        std::fill(b, b + ld * m, 0.);
+        for (unsigned int j = 0; j < m; ++j)
+          for (const auto &[dof, v] : projection[missing[start + j]])
+            if (dof >= first_owned && dof < end_owned)
+              b[j * ld + (dof - first_owned)] += v;
+        MatDenseRestoreArray(B, &b);
+        MatAssemblyBegin(B, MAT_FINAL_ASSEMBLY);
+        MatAssemblyEnd(B, MAT_FINAL_ASSEMBLY);
+        solver.solve(X, B);
+
+        const PetscScalar *x;
+        MatDenseGetLDA(X, &ld);
+        MatDenseGetArrayRead(X, &x);
+        std::vector<double> t(projection.size() * m, 0.);
+        for (unsigned int j = 0; j < m; ++j)
+          for (unsigned int i = 0; i < projection.size(); ++i)
+            for (const auto &[dof, v] : projection[i])
+              if (dof >= first_owned && dof < end_owned)
+                t[j * projection.size() + i] += v * x[j * ld + (dof - first_owned)];
+        MatDenseRestoreArrayRead(X, &x);
+        MatDestroy(&B);
+        MatDestroy(&X);
+        Utilities::MPI::sum(t, comm, t);
+        for (unsigned int j = 0; j < m; ++j)
+          column[missing[start + j]].assign(t.begin() + j * projection.size(),
+                                            t.begin() + (j + 1) * projection.size());
+      }
+    n_cached += missing.size();
+    influence_columns += missing.size();
+    times.columns += seconds_since(start_time);
+  }
+
+  void
+  ContactSolver::factorize_base(const std::vector<bool> &active, const double w)
   {
     const auto &list = pairs->pairs();
     // K + sum_A eps B B^T (- w M_perp): symmetric
@@ -199,55 +256,248 @@ namespace rotorfit
           constraints->distribute_local_to_global(local, dofs, system_matrix);
         }
     system_matrix.compress(VectorOperation::add);
-    const bool affine = (M_perp == nullptr);
-    if (!affine)
+    if (M_perp != nullptr)
       {
         MatAXPY(system_matrix, -w, *M_perp, SAME_NONZERO_PATTERN);
         system_matrix.compress(VectorOperation::insert);
       }
+    const auto start_time = std::chrono::steady_clock::now();
     solver.factorize(system_matrix);
+    times.factorize += seconds_since(start_time);
+    base_active = active;
+    base_w      = w;
+    base_valid  = true;
+    column.assign(list.size(), {});
+    n_cached = 0;
+    changed.clear();
+    changed_k.clear();
+    capacitance.reinit(0, 0);
+  }
 
-    // continue from the previous multipliers (augmented Lagrangian)
-    Decomposition next;
-    next.active  = active;
-    next.affine  = affine;
-    next.w_fixed = w;
-    const unsigned int n = list.size();
-    next.force_I.assign(n, 0.);
-    next.force_C.assign(n, 0.);
-    next.gap_I.assign(n, 0.);
-    next.gap_C.assign(n, 0.);
-    if (current.valid)
-      for (unsigned int i = 0; i < n; ++i)
-        {
-          next.force_I[i] = current.force_I[i] + (affine ? 0. : w * current.force_C[i]);
-          next.force_C[i] = affine ? current.force_C[i] : 0.;
-        }
-    if (affine)
-      {
-        uzawa_count += solve_load_case(nullptr, 0., true, 1., active, next.force_I, next.gap_I, next.u_I);
-        if (w_max > 0)
-          uzawa_count += solve_load_case(F_c, 1., false, w_max, active, next.force_C, next.gap_C, next.u_C);
-        else
-          next.u_C.reinit(owned, comm);
-      }
-    else
-      {
-        uzawa_count += solve_load_case(F_c, w, true, 1., active, next.force_I, next.gap_I, next.u_I);
-        next.u_C.reinit(owned, comm);
-      }
-    // P2 vertex pairs carry almost no force (int psi_i dA = 0), so the sign
-    // of their multiplier is noise; the pressure field p = M^-1 N is smooth
-    // and decides which pairs are open
-    // the decomposition holds everything later speeds need: a new active set
-    // gets a new factorisation anyway, so this one is freed now (it would sit
-    // next to the eigenproblem's LU)
+  void
+  ContactSolver::release_factorization()
+  {
     solver.release();
-    next.pressure_I = pairs->pressure(next.force_I);
-    next.pressure_C = pairs->pressure(next.force_C);
-    next.valid      = true;
-    next.serial     = ++decompositions;
-    current         = std::move(next);
+    base_valid = false;
+    column.assign(column.size(), {});
+    n_cached = 0;
+    changed.clear();
+    changed_k.clear();
+    capacitance.reinit(0, 0);
+  }
+
+  bool
+  ContactSolver::prepare_update(const std::vector<bool> &active)
+  {
+    const unsigned int        n = active.size();
+    std::vector<unsigned int> d, missing;
+    for (unsigned int i = 0; i < n; ++i)
+      if (active[i] != base_active[i])
+        {
+          d.push_back(i);
+          if (column[i].empty())
+            missing.push_back(i);
+        }
+    // the capacitance matrix and the cached columns grow with the changed
+    // pairs: past the limit a new factorisation is cheaper (and exact)
+    const double limit = update_limit * n;
+    if (missing.size() > limit || n_cached + missing.size() > 2 * limit ||
+        d.size() > 2 * limit)
+      return false;
+    compute_columns(missing);
+    changed = d;
+    changed_k.resize(d.size());
+    const unsigned int m = d.size();
+    capacitance.reinit(m, m);
+    for (unsigned int a = 0; a < m; ++a)
+      {
+        changed_k[a] = (active[d[a]] ? 1. : -1.) * epsilon[d[a]];
+        for (unsigned int b = 0; b < m; ++b)
+          capacitance(a, b) = column[d[b]][d[a]];
+        capacitance(a, a) += 1. / changed_k[a];
+      }
+    if (m > 0)
+      capacitance.compute_lu_factorization();
+    return true;
+  }
+
+  std::vector<double>
+  ContactSolver::apply_update(std::vector<double> &t) const
+  {
+    const unsigned int m = changed.size();
+    std::vector<double> c(m);
+    if (m == 0)
+      return c;
+    Vector<double> rhs(m);
+    for (unsigned int a = 0; a < m; ++a)
+      rhs[a] = t[changed[a]];
+    capacitance.solve(rhs);
+    for (unsigned int a = 0; a < m; ++a)
+      {
+        c[a] = rhs[a];
+        const auto &f = column[changed[a]];
+        for (unsigned int i = 0; i < t.size(); ++i)
+          t[i] -= f[i] * c[a];
+      }
+    return c;
+  }
+
+  unsigned int
+  ContactSolver::solve_load_case(const PETScWrappers::MPI::Vector *base_load,
+                                 const double                      load_factor,
+                                 const bool                        with_interference,
+                                 const double                      gap_scale,
+                                 const std::vector<bool>          &active,
+                                 std::vector<double>              &force,
+                                 std::vector<double>              &gap,
+                                 PETScWrappers::MPI::Vector       &u)
+  {
+    const auto  &list    = pairs->pairs();
+    const bool   penalty = (contact_method == Method::penalty);
+    const unsigned int n = list.size();
+    if (penalty)
+      std::fill(force.begin(), force.end(), 0.);
+    for (unsigned int i = 0; i < n; ++i)
+      if (!active[i])
+        force[i] = 0;
+
+    PETScWrappers::MPI::Vector rhs(owned, comm);
+    u.reinit(owned, comm);
+    std::vector<double> f(n), c;
+    unsigned int        iterations = 0;
+    for (unsigned int k = 0; k < (penalty ? 1 : max_uzawa_iterations); ++k)
+      {
+        if (base_load != nullptr)
+          {
+            rhs = *base_load;
+            rhs *= load_factor;
+          }
+        else
+          rhs = 0;
+        for (unsigned int i = 0; i < n; ++i)
+          f[i] = active[i] ? force[i] + epsilon[i] * (with_interference ? list[i].interference : 0.) : 0.;
+        add_pair_forces(f, rhs);
+        const auto start_time = std::chrono::steady_clock::now();
+        solver.solve(u, rhs);
+        times.solves += seconds_since(start_time);
+        // B^T K_A^-1 rhs in pair space; u stays K_base^-1 rhs for now
+        std::vector<double> t = project(u);
+        c                     = apply_update(t);
+
+        double worst = 0;
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            gap[i] = t[i] - (with_interference ? list[i].interference : 0.);
+            if (active[i])
+              {
+                force[i] -= epsilon[i] * gap[i];
+                worst = std::max(worst, gap_scale * std::abs(gap[i]) / list[i].interference);
+              }
+          }
+        if (!penalty)
+          ++iterations;
+        if (penalty || worst <= uzawa_tolerance)
+          break;
+      }
+    if (!changed.empty())
+      {
+        // u = K_base^-1 (rhs - B_D c); its residual against K_A lives on the
+        // changed pairs only: B_D (S B_D^T u - c)
+        std::fill(f.begin(), f.end(), 0.);
+        for (unsigned int a = 0; a < changed.size(); ++a)
+          f[changed[a]] = -c[a];
+        add_pair_forces(f, rhs);
+        const auto start_time = std::chrono::steady_clock::now();
+        solver.solve(u, rhs);
+        times.solves += seconds_since(start_time);
+        const std::vector<double> t = project(u);
+        double                    residual = 0, scale = 0;
+        for (unsigned int a = 0; a < changed.size(); ++a)
+          {
+            residual = std::max(residual, std::abs(changed_k[a] * t[changed[a]] - c[a]));
+            scale    = std::max(scale, std::abs(c[a]));
+          }
+        for (unsigned int i = 0; i < n; ++i)
+          if (active[i])
+            scale = std::max(scale, std::abs(force[i]));
+        update_residual = std::max(update_residual, scale > 0 ? residual / scale : 0.);
+      }
+    constraints->distribute(u);
+    return iterations;
+  }
+
+  void
+  ContactSolver::compute_decomposition(const std::vector<bool> &active,
+                                       const double             w)
+  {
+    const auto &list   = pairs->pairs();
+    const bool  affine = (M_perp == nullptr);
+    // a low-rank update of the base factorisation where it is cheaper than
+    // a new one; a failed residual check falls back to the factorisation
+    for (bool update = base_valid && (affine || base_w == w) && update_limit > 0;;
+         update      = false)
+      {
+        if (!(update && prepare_update(active)))
+          factorize_base(active, w);
+
+        // continue from the previous multipliers (augmented Lagrangian)
+        Decomposition next;
+        next.active  = active;
+        next.affine  = affine;
+        next.w_fixed = w;
+        const unsigned int n = list.size();
+        next.force_I.assign(n, 0.);
+        next.force_C.assign(n, 0.);
+        next.gap_I.assign(n, 0.);
+        next.gap_C.assign(n, 0.);
+        if (current.valid)
+          for (unsigned int i = 0; i < n; ++i)
+            {
+              next.force_I[i] = current.force_I[i] + (affine ? 0. : w * current.force_C[i]);
+              next.force_C[i] = current.force_C[i];
+            }
+        update_residual = 0;
+        if (affine)
+          {
+            uzawa_count += solve_load_case(nullptr, 0., true, 1., active, next.force_I, next.gap_I, next.u_I);
+            if (w_max > 0)
+              uzawa_count += solve_load_case(F_c, 1., false, w_max, active, next.force_C, next.gap_C, next.u_C);
+            else
+              next.u_C.reinit(owned, comm);
+          }
+        else
+          {
+            // the solution X(w) and its derivative X'(w) for this active set
+            // ((K_A - w M) u' = F_c + M u, same factorisation), stored as the
+            // tangent X_I + w' X_C, X_I = X(w) - w X'(w): exact at w, and it
+            // predicts the openings up to the next speed to first order
+            uzawa_count += solve_load_case(F_c, w, true, 1., active, next.force_I, next.gap_I, next.u_I);
+            PETScWrappers::MPI::Vector u_free = next.u_I, load(owned, comm);
+            constraints->set_zero(u_free); // M_perp acts on the condensed u
+            M_perp->vmult(load, u_free);
+            load += *F_c;
+            uzawa_count += solve_load_case(&load, 1., false, w_max, active, next.force_C, next.gap_C, next.u_C);
+            for (unsigned int i = 0; i < n; ++i)
+              {
+                next.force_I[i] -= w * next.force_C[i];
+                next.gap_I[i] -= w * next.gap_C[i];
+              }
+            next.u_I.add(-w, next.u_C);
+          }
+        if (!changed.empty() && update_residual > 1e-8)
+          continue; // the update lost accuracy: factorise this active set
+        if (!changed.empty())
+          ++low_rank_updates;
+        // P2 vertex pairs carry almost no force (int psi_i dA = 0), so the
+        // sign of their multiplier is noise; the pressure field p = M^-1 N
+        // is smooth and decides which pairs are open
+        next.pressure_I = pairs->pressure(next.force_I);
+        next.pressure_C = pairs->pressure(next.force_C);
+        next.valid      = true;
+        next.serial     = ++decompositions;
+        current         = std::move(next);
+        return;
+      }
   }
 
   ContactSolver::State
@@ -256,11 +506,14 @@ namespace rotorfit
     const unsigned int n = pairs->pairs().size();
     State              state;
     const unsigned int factorizations_before = solver.n_factorizations();
+    const unsigned int updates_before        = low_rank_updates;
+    const unsigned int columns_before        = influence_columns;
     uzawa_count                              = 0;
 
     std::vector<bool>         active = current.active;
     std::vector<unsigned int> flips(n, 0);
     std::set<std::vector<bool>> seen;
+    const auto                 &list          = pairs->pairs();
     while (true)
       {
         const bool reusable = current.valid && current.active == active &&
@@ -274,10 +527,9 @@ namespace rotorfit
         state.pressure.resize(n);
         for (unsigned int i = 0; i < n; ++i)
           {
-            const double wc   = current.affine ? w : 0.;
-            state.force[i]    = current.force_I[i] + wc * current.force_C[i];
-            state.gap[i]      = current.gap_I[i] + wc * current.gap_C[i];
-            state.pressure[i] = current.pressure_I[i] + wc * current.pressure_C[i];
+            state.force[i]    = current.force_I[i] + w * current.force_C[i];
+            state.gap[i]      = current.gap_I[i] + w * current.gap_C[i];
+            state.pressure[i] = current.pressure_I[i] + w * current.pressure_C[i];
           }
         // A closed pair opens when both its pressure and its own nodal force
         // are tensile. The force alone is noise on P2 vertex pairs (their
@@ -293,23 +545,61 @@ namespace rotorfit
           break;
         if (state.active_set_iterations >= max_active_set_iterations)
           {
+            state.flipped_back = std::count_if(flips.begin(), flips.end(),
+                                               [](unsigned int f) { return f >= 2; });
             state.converged = false;
             break;
           }
-        // cycling guard: a pair that flips twice is kept closed
+        // cycling guard. Flipping many pairs at once can overshoot: opening
+        // a group lets one of them penetrate, closing it makes it tensile
+        // again. A pair that has flipped back is held while other pairs
+        // still change; once only such pairs are left they change one at a
+        // time, the worst violation first, a penetrating pair before a
+        // tensile one (a single tensile pair that opens cannot penetrate:
+        // the flexibility is SPD).
         seen.insert(active);
+        std::vector<bool> proposal = active;
+        bool              fresh    = false;
         for (unsigned int i = 0; i < n; ++i)
-          if (next[i] != active[i] && ++flips[i] >= 2)
-            next[i] = true;
-        if (next == active || seen.count(next) > 0)
+          if (next[i] != active[i] && flips[i] < 2)
+            {
+              proposal[i] = next[i];
+              fresh       = true;
+            }
+        if (!fresh || seen.count(proposal) > 0)
           {
-            // pairs held closed may carry tension: the row is flagged, not
-            // passed off as a clean contact state
-            state.held_closed = std::count_if(flips.begin(), flips.end(),
-                                              [](unsigned int f) { return f >= 2; });
+            unsigned int pick  = n;
+            double       worst = 0;
+            for (const bool closing : {true, false})
+              {
+                for (unsigned int i = 0; i < n; ++i)
+                  if (next[i] != active[i] && active[i] != closing)
+                    {
+                      const double v = closing ? -state.gap[i] / list[i].interference :
+                                                 -state.pressure[i];
+                      if (pick == n || v > worst)
+                        {
+                          pick  = i;
+                          worst = v;
+                        }
+                    }
+                if (pick < n)
+                  break;
+              }
+            proposal       = active;
+            proposal[pick] = !active[pick];
+          }
+        if (seen.count(proposal) > 0)
+          {
+            state.flipped_back = std::count_if(flips.begin(), flips.end(),
+                                               [](unsigned int f) { return f >= 2; });
             state.converged = false;
             break;
           }
+        for (unsigned int i = 0; i < n; ++i)
+          if (proposal[i] != active[i])
+            ++flips[i];
+        next = proposal;
         active = next;
       }
     state.active = current.active;
@@ -318,6 +608,8 @@ namespace rotorfit
         state.force[i] = state.pressure[i] = 0;
     state.uzawa_iterations = uzawa_count;
     state.factorizations   = solver.n_factorizations() - factorizations_before;
+    state.low_rank_updates = low_rank_updates - updates_before;
+    state.influence_columns = influence_columns - columns_before;
     return state;
   }
 
@@ -326,8 +618,7 @@ namespace rotorfit
   {
     PETScWrappers::MPI::Vector tmp(owned, comm);
     tmp = current.u_I;
-    if (current.affine)
-      tmp.add(w, current.u_C);
+    tmp.add(w, current.u_C);
     u.reinit(owned, all_dofs, comm);
     u = tmp;
   }

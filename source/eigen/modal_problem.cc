@@ -393,7 +393,8 @@ namespace rotorfit
           }
         else
           {
-            u = decomposition.u_I; // the whole solution at this speed
+            // the whole solution at this speed (the tangent is exact there)
+            statics.contact_solver().displacement(w, u);
             matrices.assemble_stress_stiffness(dofs, mapping, bodies, u, k_sigma_I);
             k_sigma_serial = 0;
             MatAXPY(tangent, 1., k_sigma_I, SAME_NONZERO_PATTERN);

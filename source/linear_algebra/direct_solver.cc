@@ -95,4 +95,18 @@ namespace rotorfit
     check(KSPSolve(ksp, b, x), "back-substitution (KSPSolve)");
     ++solves;
   }
+
+  void
+  DirectSolver::solve(Mat X, Mat B) const
+  {
+    Assert(ksp != nullptr, ExcMessage("factorize() first"));
+    PC  pc;
+    Mat factor;
+    check(KSPGetPC(ksp, &pc), "KSPGetPC");
+    check(PCFactorGetMatrix(pc, &factor), "PCFactorGetMatrix");
+    check(MatMatSolve(factor, B, X), "block back-substitution (MatMatSolve)");
+    PetscInt columns;
+    check(MatGetSize(B, nullptr, &columns), "MatGetSize");
+    solves += columns;
+  }
 } // namespace rotorfit

@@ -71,7 +71,7 @@ namespace rotorfit
         table << "speed_rpm,interface,closed_pairs,total_pairs,contact_fraction,"
                  "mean_pressure_Pa,max_pressure_Pa,constraint_error,"
                  "active_set_iterations,uzawa_iterations,factorizations,"
-                 "converged,first_opening_rpm,loss_of_fit_rpm\n"
+                 "low_rank_updates,converged,first_opening_rpm,loss_of_fit_rpm\n"
               << std::setprecision(8) << std::flush;
         openings.open(output_dir + "/pair_openings.csv");
         openings << "interface,x_m,y_m,z_m,opening_rpm,from_rpm,to_rpm\n"
@@ -83,7 +83,6 @@ namespace rotorfit
     std::vector<double> mean_p0(n_if, nan), max_p0(n_if, nan), worst_error(n_if, 0.);
     std::vector<bool>   prev_active;
     std::vector<double> prev_I, prev_C, prev_force_I, prev_force_C;
-    bool                prev_affine = false;
     unsigned int        total_uzawa = 0;
     const auto          start       = std::chrono::steady_clock::now();
     unsigned int        steps_done  = 0;
@@ -117,7 +116,7 @@ namespace rotorfit
                   error = std::max(error, std::abs(state.gap[i]) / list[i].interference);
                 }
             pred_last = total_force_zero_rpm(ids, state.active, d.force_I, d.force_C);
-            if (!d.affine || closed == 0)
+            if (closed == 0)
               pred_last = nan;
             const double area    = pairs.closed_area(f, state.active);
             // total normal force over the closed area (exact for uniform p)
@@ -131,14 +130,16 @@ namespace rotorfit
               }
 
             // pairs that opened since the previous speed: their opening speed
-            // from the previous active set's affine law (exact for the first)
+            // from the previous active set's affine law (exact for the first;
+            // with spin softening the tangent at the previous speed: a Newton
+            // step, first order)
             if (k > 0)
               {
                 double first_now = inf, last_now = 0;
                 for (const auto i : ids)
                   if (prev_active[i] && !state.active[i])
                     {
-                      double o = prev_affine ? opening_rpm(prev_I[i], prev_C[i]) : nan;
+                      double o = opening_rpm(prev_I[i], prev_C[i]);
                       if (!std::isnan(o))
                         o = std::min(std::max(o, rpm[k - 1]), rpm[k]);
                       first_now = std::min(first_now, o);
@@ -154,10 +155,8 @@ namespace rotorfit
                 if (closed == 0 && !fully_open[f])
                   {
                     fully_open[f] = true;
-                    double lof    = prev_affine ?
-                                      total_force_zero_rpm(ids, prev_active,
-                                                           prev_force_I, prev_force_C) :
-                                      nan;
+                    double lof    = total_force_zero_rpm(ids, prev_active,
+                                                         prev_force_I, prev_force_C);
                     if (!std::isnan(lof))
                       lof = std::min(std::max(lof, rpm[k - 1]), rpm[k]);
                     loss_of_fit[f] = lof;
@@ -179,7 +178,7 @@ namespace rotorfit
                     << ',' << ids.size() << ',' << fraction << ',' << p_mean << ','
                     << p_max << ',' << error << ',' << state.active_set_iterations
                     << ',' << state.uzawa_iterations << ',' << state.factorizations
-                    << ',' << (state.converged ? 1 : 0) << ',' << first_open[f]
+                    << ',' << state.low_rank_updates << ',' << (state.converged ? 1 : 0) << ',' << first_open[f]
                     << ',' << (fully_open[f] ? loss_of_fit[f] : pred_last) << '\n';
             progress << ' ' << interfaces.list()[f].name << ' ' << closed << '/'
                      << ids.size() << " closed, p_mean " << std::setprecision(4)
@@ -194,9 +193,9 @@ namespace rotorfit
         if (!state.converged)
           log << "Warning: the active set did not settle at " << rpm[k]
               << " r/min after " << state.active_set_iterations
-              << " iterations (" << state.held_closed
-              << " pairs held closed by the cycling guard); its row has "
-                 "converged = 0.\n";
+              << " iterations (" << state.flipped_back
+              << " pairs flipped back and forth; the last active set is "
+                 "kept, and may hold pairs in tension); its row has converged = 0.\n";
 
         if (write_paraview)
           {
@@ -205,7 +204,13 @@ namespace rotorfit
           }
 
         if (after_speed)
-          after_speed(k, rpm[k], state);
+          {
+            // the eigenproblem's LU needs the memory more than the next
+            // active-set change needs this factor (at most one more
+            // factorisation per speed where the contact changes)
+            contact.release_factorization();
+            after_speed(k, rpm[k], state);
+          }
 
         ++steps_done;
         const double elapsed =
@@ -214,7 +219,8 @@ namespace rotorfit
         log << '[' << k + 1 << '/' << rpm.size() << "] " << rpm[k] << " r/min:"
             << progress.str() << " iterations " << state.active_set_iterations
             << '/' << state.uzawa_iterations << '/' << state.factorizations
-            << " (active set/Uzawa/factorisations); " << std::fixed
+            << '/' << state.low_rank_updates
+            << " (active set/Uzawa/factorisations/low-rank updates); " << std::fixed
             << std::setprecision(1) << elapsed << " s, ETA " << eta << " s"
             << std::defaultfloat << std::setprecision(6) << '\n';
 
@@ -223,7 +229,6 @@ namespace rotorfit
         prev_C       = d.pressure_C;
         prev_force_I = d.force_I;
         prev_force_C = d.force_C;
-        prev_affine = d.affine;
 
         if (stop_on_loss_of_fit && n_if > 0 &&
             std::all_of(fully_open.begin(), fully_open.end(), [](bool b) { return b; }))
@@ -235,7 +240,7 @@ namespace rotorfit
       }
 
     // when a fit never opened in the sweep, its loss of fit is extrapolated
-    // from the last active set's affine law
+    // from the last active set's affine law (or tangent)
     std::ofstream summary;
     if (root)
       summary.open(output_dir + "/summary.txt", std::ios::app);
@@ -245,7 +250,7 @@ namespace rotorfit
       {
         const std::string key = "interface." + interfaces.list()[f].name + ".";
         double            lof = loss_of_fit[f], first = first_open[f];
-        if (!fully_open[f] && d.affine)
+        if (!fully_open[f])
           {
             double last = 0, firstp = inf;
             for (const auto i : pairs.pairs_of(f))
@@ -270,11 +275,20 @@ namespace rotorfit
             << (fully_open[f] ? "" : " (extrapolated beyond the sweep)") << '\n';
       }
     summary << "static.factorizations " << contact.n_factorizations() << '\n'
+            << "static.low_rank_updates " << contact.n_low_rank_updates() << '\n'
+            << "static.influence_columns " << contact.n_influence_columns() << '\n'
             << "static.uzawa_iterations " << total_uzawa << '\n'
             << "static.speeds " << steps_done << '\n';
     log << "Static sweep: " << steps_done << " speeds, "
         << contact.n_factorizations() << " factorisations, "
-        << contact.linear_solver().n_solves() << " back-substitutions\n";
+        << contact.n_low_rank_updates() << " low-rank updates ("
+        << contact.n_influence_columns() << " influence columns), "
+        << contact.linear_solver().n_solves() << " back-substitutions; "
+        << std::fixed << std::setprecision(1) << contact.timing().factorize
+        << " s factorising, " << contact.timing().columns
+        << " s influence columns, " << contact.timing().solves
+        << " s load-case back-substitutions" << std::defaultfloat
+        << std::setprecision(6) << '\n';
   }
 
   void

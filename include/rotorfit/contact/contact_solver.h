@@ -8,6 +8,7 @@
 
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/lapack_full_matrix.h>
 #include <deal.II/lac/petsc_sparse_matrix.h>
 #include <deal.II/lac/petsc_vector.h>
 #include <deal.II/lac/vector.h>
@@ -27,8 +28,19 @@ namespace rotorfit
    * u = u_I + w u_C, N = N_I + w N_C with w = Omega^2, on one factorisation:
    * every speed with the same active set costs nothing, and the speed at
    * which each pair opens (N_i = 0) follows without further solves.
-   * With spin softening on the matrix depends on w and every speed is solved
-   * on its own factorisation.
+   * With spin softening on the matrix depends on w: every speed gets its own
+   * factorisation, and the decomposition is the tangent at that speed (the
+   * solution and its derivative in w), so openings between speeds are still
+   * predicted, to first order in the step.
+   *
+   * A new active set differs from the factorised one (the base) by a few
+   * penalty springs: K_A = K_base + B_D S B_D^T over the changed pairs D.
+   * It is solved on the base factorisation with the Woodbury identity in
+   * pair space: the influence columns F(:,p) = B^T K_base^-1 b_p of the
+   * changed pairs (block back-substitutions, cached per base) and a dense
+   * capacitance matrix S^-1 + F_DD. The matrix is factorised again only
+   * when the changed pairs without a column exceed "Low-rank update limit"
+   * times the number of pairs, or when the update fails its residual check.
    *
    * Parameters: subsection "Contact".
    */
@@ -41,7 +53,11 @@ namespace rotorfit
       augmented_lagrangian
     };
 
-    /// Solution of one active set: the two load cases (or one, at fixed w).
+    /**
+     * Solution of one active set: X(w) = X_I + w X_C. Affine (spin softening
+     * off): the interference and unit-centrifugal load cases, exact for all
+     * w. Otherwise the tangent at w_fixed: exact there, first order around.
+     */
     struct Decomposition
     {
       std::vector<bool>   active;
@@ -49,7 +65,7 @@ namespace rotorfit
       std::vector<double> gap_I, gap_C;     ///< g = gap_I + w gap_C [m]
       std::vector<double> pressure_I, pressure_C; ///< p = M_surface^-1 N [Pa]
       dealii::PETScWrappers::MPI::Vector u_I, u_C; ///< locally owned
-      bool   affine  = true; ///< false: valid only at w_fixed
+      bool   affine  = true; ///< false: a tangent at w_fixed
       double w_fixed = 0;
       bool   valid   = false;
       unsigned int serial = 0; ///< changes with every new decomposition
@@ -65,7 +81,9 @@ namespace rotorfit
       unsigned int        active_set_iterations = 0;
       unsigned int        uzawa_iterations      = 0;
       unsigned int        factorizations        = 0;
-      unsigned int        held_closed           = 0; ///< by the cycling guard
+      unsigned int        low_rank_updates      = 0; ///< active sets solved by Woodbury
+      unsigned int        influence_columns     = 0; ///< columns computed
+      unsigned int        flipped_back          = 0; ///< pairs that flipped back (cycling)
       bool                converged             = true;
     };
 
@@ -140,9 +158,71 @@ namespace rotorfit
       return solver.n_factorizations();
     }
 
+    /**
+     * Free the factorisation and its influence columns (the decomposition
+     * stays): for a memory-hungry step between speeds. The next changed
+     * active set is factorised again.
+     */
+    void
+    release_factorization();
+
+    /// Active sets solved by low-rank updates of a factorisation, so far.
+    unsigned int
+    n_low_rank_updates() const
+    {
+      return low_rank_updates;
+    }
+
+    /// Wall time so far [s] in factorisations, influence columns and the
+    /// back-substitutions of the load cases.
+    struct Timing
+    {
+      double factorize = 0, columns = 0, solves = 0;
+    };
+
+    const Timing &
+    timing() const
+    {
+      return times;
+    }
+
+    /// Influence columns computed so far (block back-substitutions).
+    unsigned int
+    n_influence_columns() const
+    {
+      return influence_columns;
+    }
+
   private:
     void
     compute_decomposition(const std::vector<bool> &active, const double w);
+
+    /// Factorise K_A for @p active (at w when not affine): the new base.
+    void
+    factorize_base(const std::vector<bool> &active, const double w);
+
+    /// Changed pairs against the base, their springs and the capacitance
+    /// matrix; false if the update is not worth it (too many new columns).
+    bool
+    prepare_update(const std::vector<bool> &active);
+
+    /// Influence columns of the changed pairs that are not cached yet.
+    void
+    compute_columns(const std::vector<unsigned int> &missing);
+
+    /// B^T x for every pair (replicated on all ranks).
+    std::vector<double>
+    project(const dealii::PETScWrappers::MPI::Vector &x) const;
+
+    /// rhs += sum_i f_i b_i (locally owned rows only).
+    void
+    add_pair_forces(const std::vector<double>          &f,
+                    dealii::PETScWrappers::MPI::Vector &rhs) const;
+
+    /// t = B^T K_base^-1 r in, B^T K_A^-1 r out; returns the Woodbury
+    /// coefficients c (K_A^-1 r = K_base^-1 (r - B_D c)).
+    std::vector<double>
+    apply_update(std::vector<double> &t) const;
 
     /// Uzawa (or one penalty solve) for one load case; returns iterations.
     unsigned int
@@ -160,6 +240,7 @@ namespace rotorfit
     unsigned int max_active_set_iterations = 30;
     unsigned int max_uzawa_iterations      = 100;
     double       uzawa_tolerance           = 1e-8;
+    double       update_limit              = 0.25;
 
     const ContactPairs                             *pairs       = nullptr;
     const dealii::AffineConstraints<double>        *constraints = nullptr;
@@ -173,6 +254,24 @@ namespace rotorfit
 
     std::vector<double>                      epsilon;
     std::vector<bool>                        owner_adds; // pair assembled here
+    /// b_i after the static constraints (b~ = C^T b): g_i = b~_i . u - delta_i
+    /// on the unconstrained DoFs; identical on every rank
+    std::vector<std::vector<std::pair<dealii::types::global_dof_index, double>>> projection;
+    dealii::types::global_dof_index first_owned = 0, end_owned = 0;
+
+    // base factorisation and its low-rank update to the current active set
+    std::vector<bool>                base_active;
+    double                           base_w     = 0;
+    bool                             base_valid = false;
+    std::vector<std::vector<double>> column; ///< F(:,p), empty if not computed
+    unsigned int                     n_cached = 0;
+    std::vector<unsigned int>        changed;   ///< D
+    std::vector<double>              changed_k; ///< S: +eps added, -eps removed
+    dealii::LAPACKFullMatrix<double> capacitance;
+    unsigned int                     low_rank_updates  = 0;
+    unsigned int                     influence_columns = 0;
+    double                           update_residual   = 0;
+    Timing                           times;
     dealii::PETScWrappers::MPI::SparseMatrix system_matrix;
     DirectSolver                             solver;
     Decomposition                            current;

@@ -56,6 +56,18 @@ namespace rotorfit
     solve(dealii::PETScWrappers::MPI::Vector       &x,
           const dealii::PETScWrappers::MPI::Vector &b) const;
 
+    /// X = A^-1 B for a block of right-hand sides (PETSc dense matrices with
+    /// the row layout of A): one pass over the factors for all columns, so
+    /// a column costs a fraction of a single back-substitution.
+    void
+    solve(Mat X, Mat B) const;
+
+    bool
+    factorized() const
+    {
+      return ksp != nullptr;
+    }
+
     unsigned int
     n_factorizations() const
     {
