@@ -32,6 +32,7 @@ def run(h_fit_mm):
     text = re.sub(r"set Directory\s*=\s*\S+", "set Directory = " + out, text)
     text = re.sub(r"set Write ParaView files = true", "set Write ParaView files = false", text)
     text = re.sub(r"  set Mode  = range", "  set Mode  = list\n  set List  = " + speeds, text)
+    text += "subsection Eigenproblem\n  set Compute modes = false\nend\n"  # a static study
     prm = os.path.join(out, "case.prm")
     open(prm, "w").write(text)
     t = time.time()

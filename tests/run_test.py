@@ -145,6 +145,25 @@ def softening(exe, prm_off, out_off, prm_on, out_on, lame_args, rtol, shift_rtol
     return 0 if ok else 1
 
 
+def same_columns(exe, prm_a, out_a, prm_b, out_b, columns, rtol, atol):
+    """Run both cases; the COLUMNS (comma-separated) of their contact.csv must
+    agree within RTOL/ATOL row by row (numdiff)."""
+    import csv
+    run(exe, set_output(prm_a, out_a))
+    run(exe, set_output(prm_b, out_b))
+    names = columns.split(",")
+    files = []
+    for out in (out_a, out_b):
+        rows = list(csv.DictReader(open(os.path.join(out, "contact.csv"))))
+        path = os.path.join(out, "contact_columns.txt")
+        with open(path, "w") as f:
+            for r in rows:
+                f.write(" ".join(r[n] for n in names) + "\n")
+        files.append(path)
+        print(out, "rows:", len(rows))
+    return numdiff(files[0], files[1], rtol, atol)
+
+
 def error(exe, prm, expected):
     import tempfile
     r = subprocess.run([exe, "--validate", prm], capture_output=True, text=True)
@@ -168,6 +187,8 @@ if __name__ == "__main__":
         sys.exit(falls(*args))
     elif mode == "softening":
         sys.exit(softening(*args))
+    elif mode == "same_columns":
+        sys.exit(same_columns(*args))
     elif mode == "ratio":
         sys.exit(ratio(*args))
     elif mode == "same":
