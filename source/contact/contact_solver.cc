@@ -9,6 +9,10 @@
 #include <limits>
 #include <map>
 #include <set>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+#include <algorithm>
 
 namespace rotorfit
 {
@@ -20,6 +24,28 @@ namespace rotorfit
     seconds_since(const std::chrono::steady_clock::time_point start)
     {
       return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+
+    void
+    check(const PetscErrorCode code, const char *what)
+    {
+      if (code != 0)
+        throw std::runtime_error(std::string("PETSc failed in ") + what + " (error " +
+                                 std::to_string(code) + ")");
+    }
+
+    // Sum over the ranks, bitwise identical on every rank (an allreduce
+    // need not be): the active-set decisions and the choice between update
+    // and factorisation must never differ between ranks.
+    void
+    sum_replicated(std::vector<double> &values, const MPI_Comm comm)
+    {
+      if (Utilities::MPI::n_mpi_processes(comm) == 1)
+        return;
+      std::vector<double> total(values.size());
+      MPI_Reduce(values.data(), total.data(), values.size(), MPI_DOUBLE, MPI_SUM, 0, comm);
+      MPI_Bcast(total.data(), total.size(), MPI_DOUBLE, 0, comm);
+      values.swap(total);
     }
   } // namespace
 
@@ -134,6 +160,9 @@ namespace rotorfit
         for (const auto &[dof, a] : raw)
           if (constraints->is_constrained(dof))
             {
+              // the pair-space algebra assumes u = C u_free (no offsets)
+              AssertThrow(!constraints->is_inhomogeneously_constrained(dof),
+                          ExcMessage("contact DoF with an inhomogeneous constraint"));
               if (const auto *entries = constraints->get_constraint_entries(dof))
                 for (const auto &[j, cj] : *entries)
                   b[j] += a * cj;
@@ -142,9 +171,9 @@ namespace rotorfit
             b[dof] += a;
         projection[i].assign(b.begin(), b.end());
       }
-    first_owned = owned.nth_index_in_set(0);
+    AssertThrow(owned.is_contiguous(), ExcMessage("PETSc needs contiguous DoF ownership"));
+    first_owned = owned.n_elements() > 0 ? owned.nth_index_in_set(0) : 0;
     end_owned   = first_owned + owned.n_elements();
-    Assert(owned.is_contiguous(), ExcInternalError());
 
     system_matrix.reinit(owned, owned, sparsity, comm);
     current = Decomposition();
@@ -162,13 +191,13 @@ namespace rotorfit
   {
     std::vector<double> t(projection.size(), 0.);
     const PetscScalar  *a;
-    VecGetArrayRead(x, &a);
+    check(VecGetArrayRead(x, &a), "VecGetArrayRead");
     for (unsigned int i = 0; i < projection.size(); ++i)
       for (const auto &[dof, b] : projection[i])
         if (dof >= first_owned && dof < end_owned)
           t[i] += b * a[dof - first_owned];
-    VecRestoreArrayRead(x, &a);
-    Utilities::MPI::sum(t, comm, t);
+    check(VecRestoreArrayRead(x, &a), "VecRestoreArrayRead");
+    sum_replicated(t, comm);
     return t;
   }
 
@@ -177,13 +206,13 @@ namespace rotorfit
                                  PETScWrappers::MPI::Vector &rhs) const
   {
     PetscScalar *a;
-    VecGetArray(rhs, &a);
+    check(VecGetArray(rhs, &a), "VecGetArray");
     for (unsigned int i = 0; i < projection.size(); ++i)
       if (f[i] != 0)
         for (const auto &[dof, b] : projection[i])
           if (dof >= first_owned && dof < end_owned)
             a[dof - first_owned] += b * f[i];
-    VecRestoreArray(rhs, &a);
+    check(VecRestoreArray(rhs, &a), "VecRestoreArray");
   }
 
   void
@@ -198,35 +227,35 @@ namespace rotorfit
       {
         const unsigned int m = std::min<unsigned int>(block, missing.size() - start);
         Mat                B, X;
-        MatCreateDense(comm, n_local, PETSC_DECIDE, n, m, nullptr, &B);
-        MatCreateDense(comm, n_local, PETSC_DECIDE, n, m, nullptr, &X);
+        check(MatCreateDense(comm, n_local, PETSC_DECIDE, n, m, nullptr, &B), "MatCreateDense");
+        check(MatCreateDense(comm, n_local, PETSC_DECIDE, n, m, nullptr, &X), "MatCreateDense");
         PetscScalar *b;
         PetscInt     ld;
-        MatDenseGetLDA(B, &ld);
-        MatDenseGetArray(B, &b);
+        check(MatDenseGetLDA(B, &ld), "MatDenseGetLDA");
+        check(MatDenseGetArray(B, &b), "MatDenseGetArray");
         std::fill(b, b + ld * m, 0.);
         for (unsigned int j = 0; j < m; ++j)
           for (const auto &[dof, v] : projection[missing[start + j]])
             if (dof >= first_owned && dof < end_owned)
               b[j * ld + (dof - first_owned)] += v;
-        MatDenseRestoreArray(B, &b);
-        MatAssemblyBegin(B, MAT_FINAL_ASSEMBLY);
-        MatAssemblyEnd(B, MAT_FINAL_ASSEMBLY);
+        check(MatDenseRestoreArray(B, &b), "MatDenseRestoreArray");
+        check(MatAssemblyBegin(B, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+        check(MatAssemblyEnd(B, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
         solver.solve(X, B);
 
         const PetscScalar *x;
-        MatDenseGetLDA(X, &ld);
-        MatDenseGetArrayRead(X, &x);
+        check(MatDenseGetLDA(X, &ld), "MatDenseGetLDA");
+        check(MatDenseGetArrayRead(X, &x), "MatDenseGetArrayRead");
         std::vector<double> t(projection.size() * m, 0.);
         for (unsigned int j = 0; j < m; ++j)
           for (unsigned int i = 0; i < projection.size(); ++i)
             for (const auto &[dof, v] : projection[i])
               if (dof >= first_owned && dof < end_owned)
                 t[j * projection.size() + i] += v * x[j * ld + (dof - first_owned)];
-        MatDenseRestoreArrayRead(X, &x);
+        check(MatDenseRestoreArrayRead(X, &x), "MatDenseRestoreArrayRead");
         MatDestroy(&B);
         MatDestroy(&X);
-        Utilities::MPI::sum(t, comm, t);
+        sum_replicated(t, comm);
         for (unsigned int j = 0; j < m; ++j)
           column[missing[start + j]].assign(t.begin() + j * projection.size(),
                                             t.begin() + (j + 1) * projection.size());
@@ -317,7 +346,14 @@ namespace rotorfit
         capacitance(a, a) += 1. / changed_k[a];
       }
     if (m > 0)
-      capacitance.compute_lu_factorization();
+      try
+        {
+          capacitance.compute_lu_factorization();
+        }
+      catch (...)
+        {
+          return false; // singular capacitance: factorise instead
+        }
     return true;
   }
 
@@ -484,7 +520,7 @@ namespace rotorfit
               }
             next.u_I.add(-w, next.u_C);
           }
-        if (!changed.empty() && update_residual > 1e-8)
+        if (!changed.empty() && !(update_residual <= 1e-8)) // NaN included
           continue; // the update lost accuracy: factorise this active set
         if (!changed.empty())
           ++low_rank_updates;
@@ -568,29 +604,29 @@ namespace rotorfit
             }
         if (!fresh || seen.count(proposal) > 0)
           {
-            unsigned int pick  = n;
-            double       worst = 0;
-            for (const bool closing : {true, false})
+            // candidates by priority: penetrating pairs (deepest first),
+            // then tensile ones (most tensile pressure first); the first
+            // whose set has not been visited yet
+            std::vector<std::tuple<bool, double, unsigned int>> candidates;
+            for (unsigned int i = 0; i < n; ++i)
+              if (next[i] != active[i])
+                candidates.emplace_back(active[i],
+                                        active[i] ? state.pressure[i] :
+                                                    state.gap[i] / list[i].interference,
+                                        i);
+            std::sort(candidates.begin(), candidates.end());
+            for (const auto &candidate : candidates)
               {
-                for (unsigned int i = 0; i < n; ++i)
-                  if (next[i] != active[i] && active[i] != closing)
-                    {
-                      const double v = closing ? -state.gap[i] / list[i].interference :
-                                                 -state.pressure[i];
-                      if (pick == n || v > worst)
-                        {
-                          pick  = i;
-                          worst = v;
-                        }
-                    }
-                if (pick < n)
+                const unsigned int i = std::get<2>(candidate);
+                proposal             = active;
+                proposal[i]          = !active[i];
+                if (seen.count(proposal) == 0)
                   break;
               }
-            proposal       = active;
-            proposal[pick] = !active[pick];
           }
         if (seen.count(proposal) > 0)
           {
+            // every way on leads back to a visited set
             state.flipped_back = std::count_if(flips.begin(), flips.end(),
                                                [](unsigned int f) { return f >= 2; });
             state.converged = false;

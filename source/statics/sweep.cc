@@ -272,7 +272,11 @@ namespace rotorfit
                 << key << "loss_of_fit_within_sweep " << (fully_open[f] ? 1 : 0) << '\n';
         log << "Interface " << interfaces.list()[f].name << ": first opening "
             << format(first) << " r/min, loss of fit " << format(lof) << " r/min"
-            << (fully_open[f] ? "" : " (extrapolated beyond the sweep)") << '\n';
+            << (fully_open[f] ? "" :
+                d.affine        ? " (extrapolated beyond the sweep)" :
+                                  " (extrapolated beyond the sweep along the last "
+                                  "speed's tangent: a first-order estimate)")
+            << '\n';
       }
     summary << "static.factorizations " << contact.n_factorizations() << '\n'
             << "static.low_rank_updates " << contact.n_low_rank_updates() << '\n'
@@ -283,7 +287,8 @@ namespace rotorfit
         << contact.n_factorizations() << " factorisations, "
         << contact.n_low_rank_updates() << " low-rank updates ("
         << contact.n_influence_columns() << " influence columns), "
-        << contact.linear_solver().n_solves() << " back-substitutions; "
+        << contact.linear_solver().n_solves()
+        << " back-substitutions (influence columns included); "
         << std::fixed << std::setprecision(1) << contact.timing().factorize
         << " s factorising, " << contact.timing().columns
         << " s influence columns, " << contact.timing().solves

@@ -38,9 +38,11 @@ namespace rotorfit
    * It is solved on the base factorisation with the Woodbury identity in
    * pair space: the influence columns F(:,p) = B^T K_base^-1 b_p of the
    * changed pairs (block back-substitutions, cached per base) and a dense
-   * capacitance matrix S^-1 + F_DD. The matrix is factorised again only
-   * when the changed pairs without a column exceed "Low-rank update limit"
-   * times the number of pairs, or when the update fails its residual check.
+   * capacitance matrix S^-1 + F_DD. The matrix is factorised again when the
+   * changed pairs without a column exceed "Low-rank update limit" times the
+   * number of pairs (or the cached columns or the changed pairs exceed twice
+   * that), when the capacitance matrix is singular, or when the update fails
+   * its residual check.
    *
    * Parameters: subsection "Contact".
    */
