@@ -447,16 +447,21 @@ namespace rotorfit
         solver.solve(u, rhs);
         times.solves += seconds_since(start_time);
         const std::vector<double> t = project(u);
-        double                    residual = 0, scale = 0;
+        // written so that a NaN propagates (std::max would drop it)
+        double residual = 0, scale = 0;
         for (unsigned int a = 0; a < changed.size(); ++a)
           {
-            residual = std::max(residual, std::abs(changed_k[a] * t[changed[a]] - c[a]));
-            scale    = std::max(scale, std::abs(c[a]));
+            const double r = std::abs(changed_k[a] * t[changed[a]] - c[a]);
+            if (!(r <= residual))
+              residual = r;
+            scale = std::max(scale, std::abs(c[a]));
           }
         for (unsigned int i = 0; i < n; ++i)
           if (active[i])
             scale = std::max(scale, std::abs(force[i]));
-        update_residual = std::max(update_residual, scale > 0 ? residual / scale : 0.);
+        const double relative = scale > 0 ? residual / scale : residual;
+        if (!(relative <= update_residual))
+          update_residual = relative;
       }
     constraints->distribute(u);
     return iterations;
