@@ -63,8 +63,9 @@ namespace rotorfit
                       "factorisation.");
     prm.declare_entry("Penalty scale",
                       "10",
-                      Patterns::Double(0.),
-                      "alpha [-]: each pair's penalty is alpha times the mean "
+                      Patterns::Double(0.01),
+                      "alpha [-], at least 0.01 (0 would switch the contact "
+                      "off): each pair's penalty is alpha times the mean "
                       "radial diagonal stiffness of its two nodes. 10..100 for "
                       "the augmented Lagrangian, 1e3..1e4 for pure penalty.");
     prm.declare_entry("Maximum active set iterations",
@@ -293,21 +294,23 @@ namespace rotorfit
     const auto start_time = std::chrono::steady_clock::now();
     solver.factorize(system_matrix);
     times.factorize += seconds_since(start_time);
+    clear_update();
     base_active = active;
     base_w      = w;
     base_valid  = true;
-    column.assign(list.size(), {});
-    n_cached = 0;
-    changed.clear();
-    changed_k.clear();
-    capacitance.reinit(0, 0);
   }
 
   void
   ContactSolver::release_factorization()
   {
     solver.release();
+    clear_update();
     base_valid = false;
+  }
+
+  void
+  ContactSolver::clear_update()
+  {
     column.assign(column.size(), {});
     n_cached = 0;
     changed.clear();

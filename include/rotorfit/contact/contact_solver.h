@@ -203,6 +203,10 @@ namespace rotorfit
     void
     factorize_base(const std::vector<bool> &active, const double w);
 
+    /// Forget the influence columns and the update (the base changed or went).
+    void
+    clear_update();
+
     /// Changed pairs against the base, their springs and the capacitance
     /// matrix; false if the update is not worth it (too many new columns).
     bool
