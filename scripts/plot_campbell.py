@@ -8,7 +8,8 @@ not bridged over a speed gap > 1.5 x the median speed step nor over a change to/
 'open' (after the loss of fit a body is loose: such rows are no assembly modes and are drawn faded).
 Excitation lines f = order * rpm / 60 (1X always, plus every order in critical_speeds.csv); critical
 speeds as circles (labels within 3 % of the x range merged); loss of fit of each interface that
-opened within the sweep as a dotted vertical line. y axis: 0 .. 1.1 x max frequency, capped by --fmax.
+opened within the sweep as a dotted vertical line; points whose static state did not converge as
+squares; a run that failed or was interrupted says so in the title. y axis: 0 .. 1.1 x max frequency, capped by --fmax.
 
 Usage: plot_campbell.py OUTDIR [--fmax HZ]
 """
@@ -50,6 +51,18 @@ def loss_of_fit(path):
     return out
 
 
+def run_status(path):
+    """run.* lines of summary.txt (written when a run stops early)."""
+    out = {}
+    if os.path.isfile(path):
+        with open(path) as f:
+            for line in f:
+                p = line.split(None, 1)
+                if len(p) == 2 and p[0].startswith("run."):
+                    out[p[0]] = p[1].strip()
+    return out
+
+
 def main(outdir, fmax_cap=None):
     path = os.path.join(outdir, "campbell.csv")
     if not os.path.isfile(path):
@@ -67,7 +80,8 @@ def main(outdir, fmax_cap=None):
         rpm, hz = num(r.get("speed_rpm")), num(r.get("frequency_hz"))
         if rpm is not None and hz is not None:
             tracks[r.get("tracked_id", "")].append((rpm, hz, r.get("whirl", ""), r.get("stable", "1") != "0",
-                                                    r.get("fit_state", "") == "open"))
+                                                    r.get("fit_state", "") == "open",
+                                                    r.get("static_converged", "1") != "0"))
             per_speed[rpm] += 1
     steps = [b - a for a, b in zip(sorted(per_speed), sorted(per_speed)[1:])]
     max_gap = 1.5 * statistics.median(steps) if steps else math.inf
@@ -103,6 +117,11 @@ def main(outdir, fmax_cap=None):
                 ax.plot([p[0] for p in bad], [p[1] for p in bad], "x", color=style[kind]["color"], ms=7,
                         alpha=fade.get("alpha", 1.0))
                 used.add("unstable")
+            doubtful = [p for p in seg if not p[5]]
+            if doubtful:
+                ax.plot([p[0] for p in doubtful], [p[1] for p in doubtful], "s", mfc="none", mec="black",
+                        ms=7)
+                used.add("unconverged")
         fmax = max([fmax] + [p[1] for p in pts])
     fmax = max([fmax] + [c[2] for c in crit])
     ytop = min(1.1 * fmax if fmax > 0 else (fmax_cap or 1.0), fmax_cap or math.inf)
@@ -154,12 +173,21 @@ def main(outdir, fmax_cap=None):
     handles.append(plt.Line2D([], [], color="black", lw=0.8, label="1X (f = rpm/60)"))
     if "unstable" in used:
         handles.append(plt.Line2D([], [], color="black", ls="none", marker="x", label="unstable"))
+    if "unconverged" in used:
+        handles.append(plt.Line2D([], [], ls="none", marker="s", mfc="none", mec="black",
+                                  label="static state not\nconverged (contact.csv)"))
     if crit:
         handles.append(plt.Line2D([], [], ls="none", marker="o", mfc="none", mec="black", label="critical speed"))
     ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1), fontsize=9)
     ax.set_xlabel("speed [r/min]")
     ax.set_ylabel("frequency [Hz]")
-    ax.set_title("Campbell diagram")
+    status = run_status(os.path.join(outdir, "summary.txt"))
+    if status.get("run.status") in ("failed", "interrupted"):
+        ax.set_title(f"Campbell diagram: run {status['run.status'].upper()} "
+                     f"{status.get('run.stopped_at', '')} (see log.txt); speeds up to there only",
+                     color="tab:red", fontsize=10)
+    else:
+        ax.set_title("Campbell diagram")
     ax.set_ylim(0, ytop)
     if xmax > 0:
         ax.set_xlim(xmin, xmax)

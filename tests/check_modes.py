@@ -29,10 +29,11 @@ tolerance is an argument, stated in tests/CMakeLists.txt.
       'fixed' contact: N_MODES assembly modes at every speed, none loose, the
       first pair within 5 % of its value at the first speed.
   check_modes.py mpi EXE PRM OUT1 OUT2 RTOL ATOL
-      campbell.csv with 1 and 2 MPI ranks agree (numdiff).
+      campbell.csv with 1 and 2 MPI ranks agree (numdiff); the rigid-body
+      mode count is the same at every speed and on both.
   check_modes.py failure EXE PRM OUT TEXT
-      the run fails with exit code 2 and TEXT in its output; the speeds done
-      before are kept in campbell.csv.
+      the run fails with exit code 2 and TEXT in its output; summary.txt
+      says failed, where and why; campbell.csv keeps the speeds done before.
 """
 import csv
 import math
@@ -339,11 +340,27 @@ def check_fixed(exe, prm, out, n_modes):
     return 0 if ok else 1
 
 
+def rigid_counts(out):
+    """Number of rigid-body rows of rigid_modes.csv per speed (every speed)."""
+    counts = {r["speed_rpm"]: 0 for r in rows(out)}
+    for r in rows(out, "rigid_modes.csv"):
+        if r["kind"] == "rigid":
+            counts[r["speed_rpm"]] = counts.get(r["speed_rpm"], 0) + 1
+    return counts
+
+
 def check_mpi(exe, prm, out1, out2, rtol, atol):
+    """campbell.csv agrees between 1 and 2 ranks, and so does the number of
+    rigid-body modes, which is also the same at every speed."""
     run_test.run(exe, prepare(prm, out1), 1)
     run_test.run(exe, prepare(prm, out2), 2)
-    return run_test.numdiff(os.path.join(out1, "campbell.csv"), os.path.join(out2, "campbell.csv"),
-                            rtol, atol)
+    c1, c2 = rigid_counts(out1), rigid_counts(out2)
+    print("rigid-body modes per speed, 1 rank:", c1, "\n2 ranks:", c2)
+    ok = c1 == c2 and len(set(c1.values())) == 1
+    print("rigid-body mode count stable:", "ok" if ok else "FAILED")
+    status = run_test.numdiff(os.path.join(out1, "campbell.csv"), os.path.join(out2, "campbell.csv"),
+                              rtol, atol)
+    return status if ok else 1
 
 
 def check_failure(exe, prm, out, text):
@@ -355,7 +372,16 @@ def check_failure(exe, prm, out, text):
     print(f"exit code {r.returncode} (expected 2), message found: {text in r.stdout}")
     kept = [x for x in rows(out)]
     print(f"campbell.csv keeps {len(kept)} rows of the speeds done")
-    ok &= len(kept) > 0 and "Stacktrace" not in r.stdout + r.stderr
+    ok &= "Stacktrace" not in r.stdout + r.stderr
+    # the failure is in summary.txt (status, where, why) and in the picture's
+    # title; campbell.csv's rows are those of the finished speeds only
+    status = dict(l.rstrip("\n").split(" ", 1) for l in open(os.path.join(out, "summary.txt"))
+                  if l.startswith("run."))
+    print("summary.txt:", status)
+    ok &= status.get("run.status") == "failed" and status.get("run.exit_code") == "2"
+    ok &= "r/min" in status.get("run.stopped_at", "") and text in status.get("run.message", "")
+    done = {x["speed_rpm"] for x in kept}
+    ok &= str(len(done)) in status.get("run.stopped_at", "")
     return 0 if ok else 1
 
 

@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
-"""CTest driver for rotorfit. Every check compares numbers against analytic or
-independently known values at a tolerance stated in tests/CMakeLists.txt.
+"""CTest driver for rotorfit. Each check says what it compares against (a
+closed form, an independently known value, another path of the same code,
+or the message of a refusal); the tolerances are stated in
+tests/CMakeLists.txt, and so is each test's kind (its CTest label).
 
   run_test.py compare EXE PRM OUTDIR EXPECTED RTOL ATOL [NP]
       run the case, take the keys of EXPECTED from OUTDIR/summary.txt and
@@ -8,6 +10,15 @@ independently known values at a tolerance stated in tests/CMakeLists.txt.
   run_test.py error EXE PRM EXPECTED
       --validate must fail with exit code 1; stderr is compared with EXPECTED
       (numdiff, numbers to 1e-6 relative).
+  run_test.py static_flags EXE PRM OUTDIR TEXT [LIMIT]
+      an unconverged static state flagged in contact.csv, campbell.csv,
+      summary.txt and the log (see static_flags()).
+  run_test.py lock_and_signal EXE PRM OUTDIR
+      a second run into a busy folder is refused; SIGTERM stops the first.
+  run_test.py areas EXE PRM NAME=AREA,... RTOL
+      --validate accepts PRM and reports these interface/bearing areas.
+  run_test.py valid EXE PRM
+      --validate accepts PRM.
   run_test.py ratio EXE PRM_A OUT_A PRM_B OUT_B KEY EXPECTED RTOL
       run two cases; KEY(A)/KEY(B) must equal EXPECTED within RTOL (numdiff).
   run_test.py same EXE PRM OUTDIR_1 OUTDIR_2 RTOL ATOL
@@ -164,6 +175,109 @@ def same_columns(exe, prm_a, out_a, prm_b, out_b, columns, rtol, atol):
     return numdiff(files[0], files[1], rtol, atol)
 
 
+def valid(exe, prm):
+    """--validate must accept PRM (exit code 0, 'valid.' in its output)."""
+    r = subprocess.run([exe, "--validate", prm], capture_output=True, text=True)
+    print(r.stdout[-2000:], r.stderr[-2000:])
+    ok = r.returncode == 0 and "valid." in r.stdout
+    print("accepted:", "ok" if ok else "FAILED")
+    return 0 if ok else 1
+
+
+def static_flags(exe, prm, outdir, text, limit=None):
+    """A static state that is not converged must say so everywhere: the run
+    ends with exit code 0, every row of contact.csv with closed pairs has
+    converged = 0 and TEXT in its status (a fully open fit has nothing to
+    converge: 'ok'; with LIMIT only the rows whose constraint error exceeds
+    it), every row of campbell.csv at those speeds has
+    static_converged = 0, summary.txt counts those speeds and the log warns."""
+    import csv
+    run(exe, set_output(prm, outdir))
+    ok = True
+    rows = list(csv.DictReader(open(os.path.join(outdir, "contact.csv"))))
+    flagged = set()
+    for r in rows:
+        print(r["speed_rpm"], r["closed_pairs"], r["converged"], r["status"])
+        # with LIMIT: flagged exactly where the constraint error exceeds it
+        if int(r["closed_pairs"]) > 0 and (limit is None or
+                                           float(r["constraint_error"]) > float(limit)):
+            ok &= r["converged"] == "0" and text in r["status"]
+            flagged.add(r["speed_rpm"])
+        else:
+            ok &= r["converged"] == "1" and r["status"] == "ok"
+    ok &= len(flagged) > 0
+    campbell = os.path.join(outdir, "campbell.csv")
+    if os.path.isfile(campbell):
+        modes = list(csv.DictReader(open(campbell)))
+        print(f"campbell.csv: {len(modes)} rows, static_converged",
+              sorted({(m["speed_rpm"], m["static_converged"]) for m in modes}))
+        ok &= len(modes) > 0 and all((m["static_converged"] == "0") == (m["speed_rpm"] in flagged)
+                                     for m in modes)
+    ok &= summary_value(outdir, "static.unconverged_speeds") == len(flagged)
+    log = open(os.path.join(outdir, "log.txt")).read()
+    ok &= "is not converged" in log or "exceeds its limit" in log
+    print("unconverged static state flagged:", "ok" if ok else "FAILED")
+    return 0 if ok else 1
+
+
+def lock_and_signal(exe, prm, outdir):
+    """Two runs into one folder and a SIGTERM. Run A starts; run B into the
+    same folder is refused (exit code 1) naming A's process id; A receives
+    SIGTERM once it has finished a speed, stops with exit code 3, its log
+    says where it stopped, summary.txt says 'interrupted', and every row it
+    wrote to campbell.csv is complete."""
+    import csv
+    import signal
+    import time
+    copy = set_output(prm, outdir)
+    log = os.path.join(outdir, "campbell.csv")
+    if os.path.exists(log):
+        os.remove(log)
+    a = subprocess.Popen([exe, copy], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.time() + 300
+    while time.time() < deadline and a.poll() is None:
+        if os.path.exists(log) and len(open(log).read().splitlines()) >= 2:
+            break
+        time.sleep(0.2)
+    b = subprocess.run([exe, copy], capture_output=True, text=True)
+    print("second run:", b.returncode, b.stderr.strip())
+    ok = b.returncode == 1 and f"process id {a.pid})" in b.stderr
+    a.send_signal(signal.SIGTERM)
+    out, err = a.communicate(timeout=600)
+    print(out[-1500:], err[-1500:])
+    print("first run exit code:", a.returncode, "(expected 3)")
+    ok &= a.returncode == 3
+    text = open(os.path.join(outdir, "log.txt")).read()
+    ok &= "interrupted by SIGTERM" in text and "speeds finished" in text
+    summary = open(os.path.join(outdir, "summary.txt")).read()
+    ok &= "run.status interrupted" in summary
+    header = open(log).readline().count(",")
+    rows = open(log).read().splitlines()[1:]
+    ok &= len(rows) >= 1 and all(r.count(",") == header for r in rows)
+    print(f"campbell.csv: {len(rows)} complete rows")
+    print("lock and signal:", "ok" if ok else "FAILED")
+    return 0 if ok else 1
+
+
+def areas(exe, prm, expected, rtol):
+    """--validate accepts PRM, and the areas it reports for interfaces and
+    bearings (mm^2) match EXPECTED ('name=area,...', closed forms) within
+    RTOL: a mesh or a physical group that is wrong cannot pass."""
+    import re
+    r = subprocess.run([exe, "--validate", prm], capture_output=True, text=True)
+    print(r.stdout[-3000:], r.stderr[-2000:])
+    ok = r.returncode == 0 and "valid." in r.stdout
+    found = {m.group(1): float(m.group(2)) for m in
+             re.finditer(r"(?:Interface|bearing) (\S+?):? .*?area ([0-9.eE+-]+) mm\^2", r.stdout)}
+    for item in expected.split(","):
+        name, want = item.split("=")
+        got = found.get(name)
+        good = got is not None and abs(got / float(want) - 1) <= float(rtol)
+        print(f"{name}: area {got} vs {want} mm^2 (rtol {rtol}):", "ok" if good else "FAILED")
+        ok &= good
+    return 0 if ok else 1
+
+
 def error(exe, prm, expected):
     import tempfile
     r = subprocess.run([exe, "--validate", prm], capture_output=True, text=True)
@@ -183,6 +297,14 @@ if __name__ == "__main__":
         sys.exit(compare(*args))
     elif mode == "error":
         sys.exit(error(*args))
+    elif mode == "areas":
+        sys.exit(areas(*args))
+    elif mode == "valid":
+        sys.exit(valid(*args))
+    elif mode == "static_flags":
+        sys.exit(static_flags(*args))
+    elif mode == "lock_and_signal":
+        sys.exit(lock_and_signal(*args))
     elif mode == "falls":
         sys.exit(falls(*args))
     elif mode == "softening":

@@ -11,6 +11,8 @@
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -305,6 +307,53 @@ namespace rotorfit
         a += s.face_area[k] * n / s.faces[k].size();
       }
     return a;
+  }
+
+  double
+  ContactPairs::asymmetry(const unsigned int i, const std::vector<bool> &closed) const
+  {
+    constexpr unsigned int rings = 4, sectors = 8;
+    const Surface         &s = surfaces[i];
+    double z_min = std::numeric_limits<double>::max(), z_max = -z_min;
+    for (const auto p : s.pairs)
+      {
+        z_min = std::min(z_min, pair_list[p].position[2]);
+        z_max = std::max(z_max, pair_list[p].position[2]);
+      }
+    std::vector<double> area(rings * sectors, 0.), shut(rings * sectors, 0.);
+    for (unsigned int k = 0; k < s.faces.size(); ++k)
+      {
+        Point<3>     c;
+        unsigned int n = 0;
+        for (const auto p : s.faces[k])
+          {
+            c += pair_list[s.pairs[p]].position;
+            n += closed[s.pairs[p]];
+          }
+        c /= s.faces[k].size();
+        const double       phi = std::atan2(c[1], c[0]) + numbers::PI; // [0, 2 pi]
+        const unsigned int a   = std::min<unsigned int>(sectors - 1, phi / (2 * numbers::PI) * sectors);
+        const unsigned int r   = z_max > z_min ?
+                                   std::min<unsigned int>(rings - 1, (c[2] - z_min) / (z_max - z_min) * rings) :
+                                   0;
+        area[r * sectors + a] += s.face_area[k];
+        shut[r * sectors + a] += s.face_area[k] * n / s.faces[k].size();
+      }
+    double worst = 0;
+    for (unsigned int r = 0; r < rings; ++r)
+      {
+        double lo = 1, hi = 0;
+        for (unsigned int a = 0; a < sectors; ++a)
+          if (area[r * sectors + a] > 0)
+            {
+              const double f = shut[r * sectors + a] / area[r * sectors + a];
+              lo             = std::min(lo, f);
+              hi             = std::max(hi, f);
+            }
+        if (hi > 0)
+          worst = std::max(worst, 1 - lo / hi);
+      }
+    return worst;
   }
 
   std::vector<double>

@@ -63,9 +63,11 @@ namespace rotorfit
                       "factorisation.");
     prm.declare_entry("Penalty scale",
                       "10",
-                      Patterns::Double(0.01),
-                      "alpha [-], at least 0.01 (0 would switch the contact "
-                      "off): each pair's penalty is alpha times the mean "
+                      Patterns::Double(0.01, 1e8),
+                      "alpha [-], 0.01 .. 1e8 (0 would switch the contact "
+                      "off; above 1e8 the penalty springs swamp the elastic "
+                      "stiffness in double precision and the factorisation "
+                      "loses every digit): each pair's penalty is alpha times the mean "
                       "radial diagonal stiffness of its two nodes. 10..100 for "
                       "the augmented Lagrangian, 1e3..1e4 for pure penalty.");
     prm.declare_entry("Maximum active set iterations",
@@ -91,6 +93,13 @@ namespace rotorfit
                       "are at most this fraction of all pairs; above it the "
                       "matrix is factorised again [-]. 0: factorise every "
                       "active set.");
+    prm.declare_entry("Constraint error limit",
+                      "0.01",
+                      Patterns::Double(0.),
+                      "Pure penalty: a speed whose constraint error max |gap| / "
+                      "interference of the closed pairs exceeds this is flagged "
+                      "converged = 0 [-] (the augmented Lagrangian uses 10 x "
+                      "Uzawa tolerance).");
     prm.leave_subsection();
   }
 
@@ -107,6 +116,7 @@ namespace rotorfit
     max_uzawa_iterations = prm.get_integer("Maximum Uzawa iterations");
     uzawa_tolerance      = prm.get_double("Uzawa tolerance");
     update_limit         = prm.get_double("Low-rank update limit");
+    penalty_error_limit  = prm.get_double("Constraint error limit");
     prm.leave_subsection();
     solver.parse_parameters(prm);
   }
@@ -437,6 +447,8 @@ namespace rotorfit
           ++iterations;
         if (penalty || worst <= uzawa_tolerance)
           break;
+        if (k + 1 == max_uzawa_iterations)
+          uzawa_capped = true;
       }
     if (!changed.empty())
       {
@@ -501,6 +513,7 @@ namespace rotorfit
               next.force_C[i] = current.force_C[i];
             }
         update_residual = 0;
+        uzawa_capped    = false;
         if (affine)
           {
             uzawa_count += solve_load_case(nullptr, 0., true, 1., active, next.force_I, next.gap_I, next.u_I);
@@ -538,6 +551,7 @@ namespace rotorfit
         next.pressure_I = pairs->pressure(next.force_I);
         next.pressure_C = pairs->pressure(next.force_C);
         next.valid      = true;
+        next.uzawa_converged = !uzawa_capped;
         next.serial     = ++decompositions;
         current         = std::move(next);
         return;
@@ -645,6 +659,16 @@ namespace rotorfit
             ++flips[i];
         next = proposal;
         active = next;
+      }
+    if (!state.converged)
+      state.reason = "active set not settled (" + std::to_string(state.active_set_iterations) +
+                     " iterations; " + std::to_string(state.flipped_back) + " pairs flipped back)";
+    if (!current.uzawa_converged)
+      {
+        state.converged = false;
+        state.reason += std::string(state.reason.empty() ? "" : "; ") +
+                        "Uzawa cap reached (Contact/Maximum Uzawa iterations = " +
+                        std::to_string(max_uzawa_iterations) + ")";
       }
     state.active = current.active;
     for (unsigned int i = 0; i < n; ++i)

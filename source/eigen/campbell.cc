@@ -47,7 +47,7 @@ namespace rotorfit
       return;
     campbell_csv.open(directory + "/campbell.csv");
     campbell_csv << "speed_rpm,mode,tracked_id,whirl,frequency_hz,damping_ratio,"
-                    "log_dec,stable,backward_error,fit_state\n"
+                    "log_dec,stable,backward_error,fit_state,static_converged,contact_asymmetry\n"
                  << std::setprecision(10) << std::flush;
     critical_csv.open(directory + "/critical_speeds.csv");
     critical_csv << "tracked_id,whirl,order,speed_rpm,frequency_hz\n"
@@ -57,7 +57,9 @@ namespace rotorfit
   void
   Campbell::add_speed(const double            rpm,
                       std::vector<WhirlMode> &modes,
-                      const std::string      &fit_state)
+                      const std::string      &fit_state,
+                      const bool              static_converged,
+                      const double            asymmetry)
   {
     // greedy assignment on MAC, best first; whirl directions must agree
     std::vector<std::tuple<double, unsigned int, unsigned int>> candidates;
@@ -96,7 +98,8 @@ namespace rotorfit
                        // undamped modes (Re = 0 up to round-off) count as stable
                        << (m.lambda.real() <= 1e-8 * std::abs(m.lambda) ? 1 : 0)
                        << ',' << m.backward_error
-                       << ',' << fit_state << '\n';
+                       << ',' << fit_state << ',' << (static_converged ? 1 : 0) << ','
+                       << asymmetry << '\n';
         // k X crossings between the previous speed and this one
         if (match[b] >= 0)
           for (const unsigned int k : orders)

@@ -148,6 +148,12 @@ namespace rotorfit
     }
   } // namespace
 
+  unsigned int
+  DampedEigensolver::krylov_size(const unsigned int nev, const double growth) const
+  {
+    return std::max<unsigned int>(nev + 3, std::ceil(growth * krylov_factor * nev));
+  }
+
   void
   replicated_vmult(const PETScWrappers::MPI::SparseMatrix &A,
                    const Vector<double>                   &x,
@@ -226,7 +232,8 @@ namespace rotorfit
                            const PETScWrappers::MPI::SparseMatrix &K,
                            PETScWrappers::MPI::SparseMatrix       &Q,
                            const unsigned int                      nev,
-                           Statistics                             &stats)
+                           Statistics                             &stats,
+                           const unsigned int                      attempt)
   {
     const std::size_t n = M.m();
     using clock         = std::chrono::steady_clock;
@@ -235,21 +242,25 @@ namespace rotorfit
     };
     auto t0 = clock::now();
     // Q(sigma) = K + sigma C + sigma^2 M: one pattern for all of them
-    MatCopy(K, Q, SAME_NONZERO_PATTERN);
-    MatAXPY(Q, sigma, C, SAME_NONZERO_PATTERN);
-    MatAXPY(Q, sigma * sigma, M, SAME_NONZERO_PATTERN);
-    solver.factorize(Q);
+    if (attempt == 0)
+      {
+        MatCopy(K, Q, SAME_NONZERO_PATTERN);
+        MatAXPY(Q, sigma, C, SAME_NONZERO_PATTERN);
+        MatAXPY(Q, sigma * sigma, M, SAME_NONZERO_PATTERN);
+        solver.factorize(Q);
+      }
     const double t_factor = seconds(t0);
     t0                    = clock::now();
 
-    const unsigned int ncv = std::min<std::size_t>(
-      2 * n, std::max<unsigned int>(nev + 3, std::ceil(krylov_factor * nev)));
+    const double       growth = std::pow(2., attempt);
+    const unsigned int ncv    = std::min<std::size_t>(2 * n - 1, krylov_size(nev, growth));
     stats             = Statistics();
     stats.factorization_seconds = t_factor;
     stats.requested   = nev;
     stats.krylov_size = ncv;
+    stats.max_restarts = static_cast<unsigned int>(max_restarts * growth);
 
-    SolverControl control(max_restarts, tolerance, false, false);
+    SolverControl control(stats.max_restarts, tolerance, false, false);
     ArpackSolver  arpack(control,
                         ArpackSolver::AdditionalData(ncv,
                                                      ArpackSolver::largest_magnitude,
@@ -296,6 +307,14 @@ namespace rotorfit
     std::vector<EigenPair> pairs;
     for (unsigned int j = 0; j < nev; ++j)
       {
+        // an unconverged slot: exactly 0 + 0i, a zero vector, or not finite
+        if ((lambda[j] == std::complex<double>(0., 0.)) ||
+            !std::isfinite(lambda[j].real()) || !std::isfinite(lambda[j].imag()) ||
+            !(z[j].l2_norm() > 0))
+          {
+            ++stats.unconverged_slots;
+            continue;
+          }
         EigenPair p;
         p.lambda = lambda[j];
         p.phi.re.reinit(n);

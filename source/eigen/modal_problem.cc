@@ -63,10 +63,12 @@ namespace rotorfit
                       "first speed's closed pairs.");
     prm.declare_entry("Contact penalty scale",
                       "1000",
-                      Patterns::Double(0.),
+                      Patterns::Double(100., 1e8),
                       "Tie stiffness of a pair in the eigenproblem, times its "
-                      "radial nodal stiffness [-]; 1000 changes frequencies "
-                      "by about 0.1 % against a rigid tie.");
+                      "radial nodal stiffness [-], 100 .. 1e8; 1000 changes frequencies "
+                      "by about 0.1 % against a rigid tie (the error goes as "
+                      "1 / scale: a soft tie would move the modes of the fit "
+                      "by whole percents; above 1e8 Q(sigma) loses its digits).");
     prm.declare_entry("Stress stiffening",
                       "interference + centrifugal",
                       Patterns::Selection("off|interference only|interference + centrifugal"),
@@ -147,6 +149,8 @@ namespace rotorfit
     n_stations         = prm.get_integer("Whirl stations");
     mac_threshold      = prm.get_double("MAC threshold");
     orders.clear();
+    check_unique(Utilities::split_string_list(prm.get("Excitation orders"), ','),
+                 "Eigenproblem/Excitation orders");
     for (const auto &o : Utilities::split_string_list(prm.get("Excitation orders"), ','))
       orders.push_back(Utilities::string_to_int(o));
     write_shapes = prm.get_bool("Write mode shapes");
@@ -261,6 +265,7 @@ namespace rotorfit
     const unsigned int zeros =
       expected_zero_modes(std::vector<bool>(statics.contact_pairs().pairs().size(), true), loose);
     const std::size_t nev = 2 * n_modes + 2 * zeros + 1;
+    max_nev               = nev;
     if (nev + 3 > 2 * dof_handler.n_dofs())
       throw InputError("Eigenproblem/Number of modes = " + std::to_string(n_modes) +
                        " needs " + std::to_string(nev) +
@@ -478,57 +483,98 @@ namespace rotorfit
       matrix_checks(rpm);
     std::vector<bool>  loose_body;
     const unsigned int zeros = expected_zero_modes(tied, loose_body);
-    const unsigned int nev   = 2 * n_modes + 2 * zeros + 1;
+    unsigned int       nev   = 2 * n_modes + 2 * zeros + 1;
 
-    std::vector<EigenPair>        pairs;
+    const auto &bodies = statics.body_list();
+    std::vector<WhirlMode>   elastic;
+    std::vector<std::string> rigid_rows;
+    unsigned int             n_rigid = 0, n_loose = 0, n_overdamped = 0, unconverged = 0;
+    double                   worst   = 0;
     DampedEigensolver::Statistics stats;
-    {
-      TimerOutput::Scope t(statics.timer_output(), "eigen: factorisation + ARPACK");
-      pairs = eigensolver.solve(matrices.mass, damping, tangent, shifted, nev, stats);
-    }
-
-    TimerOutput::Scope t(statics.timer_output(), "eigen: post-processing + output");
-    const auto        &bodies = statics.body_list();
-    std::ofstream      rigid;
-    if (root)
-      rigid.open(statics.output_directory() + "/rigid_modes.csv", std::ios::app);
-    rigid << std::setprecision(10);
-    std::vector<WhirlMode> elastic;
-    unsigned int           n_rigid = 0, n_loose = 0, n_overdamped = 0, unconverged = 0;
-    double                 worst   = 0;
-    for (auto &p : pairs)
+    // a second attempt on the same factorisation with twice the Krylov
+    // space and restarts (and room for the modes that were missing); then
+    // the run stops: a Campbell diagram with a missing line is wrong
+    for (unsigned int attempt = 0;; ++attempt)
       {
-        worst = std::max(worst, p.backward_error);
-        if (!(p.backward_error <= eigensolver.backward_error_limit()))
-          ++unconverged;
-        WhirlMode m;
-        m.lambda         = p.lambda;
-        m.backward_error = p.backward_error;
-        m.m_phi          = std::move(p.m_phi);
-        // kinetic energy share per body: M is block diagonal by body
-        std::vector<double> energy(bodies.size(), 0.);
-        for (std::size_t i = 0; i < p.phi.re.size(); ++i)
-          energy[body_of_dof[i]] += p.phi.re[i] * m.m_phi.re[i] + p.phi.im[i] * m.m_phi.im[i];
-        const double total = std::accumulate(energy.begin(), energy.end(), 0.);
-        const unsigned int dominant =
-          std::max_element(energy.begin(), energy.end()) - energy.begin();
-        const bool in_loose_body = loose_body[dominant] && energy[dominant] > 0.9 * total;
-        const bool rigid_mode = std::abs(p.lambda) < 2 * M_PI * rigid_threshold_hz;
-        const bool real_mode  = p.lambda.imag() == 0;
-        if (rigid_mode || real_mode || in_loose_body)
+        std::vector<EigenPair> pairs;
+        {
+          TimerOutput::Scope t(statics.timer_output(), "eigen: factorisation + ARPACK");
+          pairs = eigensolver.solve(matrices.mass, damping, tangent, shifted, nev, stats, attempt);
+        }
+        TimerOutput::Scope t(statics.timer_output(), "eigen: post-processing + output");
+        elastic.clear();
+        rigid_rows.clear();
+        n_rigid = n_loose = n_overdamped = 0;
+        unconverged = stats.unconverged_slots;
+        worst       = 0;
+        for (auto &p : pairs)
           {
-            const std::string kind = in_loose_body ? "loose" : rigid_mode ? "rigid" : "overdamped";
-            (in_loose_body ? n_loose : rigid_mode ? n_rigid : n_overdamped) += 1;
-            rigid << rpm << ',' << kind << ','
-                  << (in_loose_body ? bodies[dominant].name : "assembly")
-                  << ',' << p.lambda.real() << ',' << p.lambda.imag() / (2 * M_PI) << ','
-                  << p.backward_error << '\n';
+            if (!(p.backward_error <= worst)) // NaN included
+              worst = p.backward_error;
+            if (!(p.backward_error <= eigensolver.backward_error_limit()))
+              {
+                ++unconverged;
+                continue;
+              }
+            WhirlMode m;
+            m.lambda         = p.lambda;
+            m.backward_error = p.backward_error;
+            m.m_phi          = std::move(p.m_phi);
+            // kinetic energy share per body: M is block diagonal by body
+            std::vector<double> energy(bodies.size(), 0.);
+            for (std::size_t i = 0; i < p.phi.re.size(); ++i)
+              energy[body_of_dof[i]] += p.phi.re[i] * m.m_phi.re[i] + p.phi.im[i] * m.m_phi.im[i];
+            const double total = std::accumulate(energy.begin(), energy.end(), 0.);
+            const unsigned int dominant =
+              std::max_element(energy.begin(), energy.end()) - energy.begin();
+            const bool in_loose_body = loose_body[dominant] && energy[dominant] > 0.9 * total;
+            const bool rigid_mode = std::abs(p.lambda) < 2 * M_PI * rigid_threshold_hz;
+            const bool real_mode  = p.lambda.imag() == 0;
+            if (rigid_mode || real_mode || in_loose_body)
+              {
+                const std::string kind = in_loose_body ? "loose" : rigid_mode ? "rigid" : "overdamped";
+                (in_loose_body ? n_loose : rigid_mode ? n_rigid : n_overdamped) += 1;
+                std::ostringstream row;
+                row << std::setprecision(10) << rpm << ',' << kind << ','
+                    << (in_loose_body ? bodies[dominant].name : "assembly") << ','
+                    << p.lambda.real() << ',' << p.lambda.imag() / (2 * M_PI) << ','
+                    << p.backward_error << '\n';
+                rigid_rows.push_back(row.str());
+                continue;
+              }
+            m.phi = std::move(p.phi);
+            elastic.push_back(std::move(m));
+          }
+        const bool complete = unconverged == 0 && elastic.size() >= n_modes;
+        if (complete)
+          break;
+        std::ostringstream m;
+        m << "at " << rpm << " r/min: " << elastic.size() << " elastic modes converged ("
+          << n_modes << " wanted; " << stats.unconverged_slots
+          << " ARPACK slots unconverged, " << unconverged - stats.unconverged_slots
+          << " eigenpairs with a backward error above Eigenproblem/Backward error limit = "
+          << eigensolver.backward_error_limit() << ", worst " << std::setprecision(3) << worst
+          << "; " << n_rigid << " rigid, " << n_loose << " loose-body, " << n_overdamped
+          << " overdamped) with " << stats.requested << " eigenvalues, Krylov size "
+          << stats.krylov_size << ", at most " << stats.max_restarts << " restarts";
+        if (attempt == 0)
+          {
+            nev += 2 * (n_modes - std::min<unsigned int>(n_modes, elastic.size()));
+            log << "  eigen: retry " << m.str() << "; again with twice the Krylov space\n";
             continue;
           }
-        m.phi = std::move(p.phi);
-        elastic.push_back(std::move(m));
+        throw SolverFailure(rpm,
+                            "the eigensolver did not converge " + m.str() +
+                              " (after one retry with twice the Krylov space); raise "
+                              "Eigenproblem/Maximum restarts or Krylov size factor, or move "
+                              "the Shift");
       }
-    rigid.close();
+    if (root)
+      {
+        std::ofstream rigid(statics.output_directory() + "/rigid_modes.csv", std::ios::app);
+        for (const auto &row : rigid_rows)
+          rigid << row;
+      }
 
     std::ostringstream line;
     line << "  eigen: " << elastic.size() << " whirl modes";
@@ -543,23 +589,8 @@ namespace rotorfit
          << stats.arnoldi_seconds << " s Arnoldi (" << stats.solve_seconds
          << " s back-substitutions), " << stats.check_seconds << " s checks\n";
     log << line.str();
-    if (unconverged > 0)
-      {
-        std::ostringstream m;
-        m << "the eigensolver did not converge at " << rpm << " r/min: " << unconverged
-          << " of " << pairs.size() << " eigenpairs have a backward error above "
-          << "Eigenproblem/Backward error limit = " << eigensolver.backward_error_limit()
-          << " (worst " << std::setprecision(3) << worst << ") after " << stats.iterations
-          << " restarts; raise Eigenproblem/Maximum restarts or Krylov size factor, or "
-             "move the Shift";
-        throw std::runtime_error(m.str());
-      }
     if (elastic.size() > n_modes)
       elastic.resize(n_modes);
-    else if (elastic.size() < n_modes)
-      log << "  note: " << elastic.size() << " of " << n_modes
-          << " elastic modes found (more rigid or loose-body modes than "
-             "expected took their place)\n";
 
     separate_degenerate_pairs(elastic);
     for (auto &m : elastic)
@@ -591,7 +622,7 @@ namespace rotorfit
             << "; from here on the whirl lines are not assembly modes (fit_state = "
                "open in campbell.csv), loose-body modes go to rigid_modes.csv\n";
       }
-    campbell.add_speed(rpm, elastic, fit_state);
+    campbell.add_speed(rpm, elastic, fit_state, state.converged, state.asymmetry);
     if (write_shapes)
       write_modes(step, rpm, elastic, tied);
     worst_backward_error = std::max(worst_backward_error, worst);

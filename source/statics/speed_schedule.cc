@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <deal.II/base/numbers.h>
+#include <iomanip>
 #include <sstream>
 
 namespace rotorfit
@@ -55,11 +56,22 @@ namespace rotorfit
                            " r/min is below Speeds/Start = " +
                            prm.get("Start") +
                            " r/min; give End >= Start.");
-        const unsigned int n =
-          static_cast<unsigned int>(std::floor((end - start) / step + 1e-9));
-        if (n > 100000)
-          throw InputError("Speeds: Start/End/Step give " + std::to_string(n) +
-                           " speeds; use a larger Step.");
+        for (const char *entry : {"Start", "End", "Step"})
+          if (!std::isfinite(prm.get_double(entry)))
+            throw InputError(std::string("Speeds/") + entry + " = " + prm.get(entry) +
+                             " is not a finite number of r/min.");
+        // counted in double: a tiny Step must not overflow the count
+        const double count = std::floor((end - start) / step + 1e-9);
+        if (!(count <= 100000))
+          throw InputError("Speeds: Start = " + prm.get("Start") + ", End = " +
+                           prm.get("End") + " and Step = " + prm.get("Step") +
+                           " r/min give " + [&] {
+                             std::ostringstream c;
+                             c << std::setprecision(3) << count + 1;
+                             return c.str();
+                           }() +
+                           " speeds (at most 100001); use a larger Step.");
+        const unsigned int n = static_cast<unsigned int>(count);
         for (unsigned int i = 0; i <= n; ++i)
           speeds.push_back(start + i * step);
         // include End if the step does not land on it
@@ -73,8 +85,16 @@ namespace rotorfit
         if (items.empty())
           throw InputError("Speeds/List is empty while Speeds/Mode = list; "
                            "give at least one speed.");
+        if (items.size() > 100001)
+          throw InputError("Speeds/List has " + std::to_string(items.size()) +
+                           " speeds (at most 100001).");
         for (const auto &s : items)
-          speeds.push_back(Utilities::string_to_double(s));
+          {
+            speeds.push_back(Utilities::string_to_double(s));
+            if (!std::isfinite(speeds.back()))
+              throw InputError("Speeds/List has the speed '" + s +
+                               "', which is not a finite number of r/min.");
+          }
         for (unsigned int i = 0; i < speeds.size(); ++i)
           {
             if (speeds[i] < 0)

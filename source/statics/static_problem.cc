@@ -14,7 +14,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <cmath>
 #include <iomanip>
+#include <sstream>
 #include <limits>
 
 namespace rotorfit
@@ -99,6 +101,7 @@ namespace rotorfit
     prm.enter_subsection("Supports");
     roller_surfaces =
       Utilities::split_string_list(prm.get("Axial roller surfaces"), ',');
+    check_unique(roller_surfaces, "Supports/Axial roller surfaces");
     prm.leave_subsection();
     prm.enter_subsection("Output");
     output_dir     = prm.get("Directory");
@@ -151,6 +154,36 @@ namespace rotorfit
           << pairs.area(i) * 1e6 << " mm^2, radial interference "
           << interfaces.list()[i].interference * 1e6 << " um\n";
     log << "Static supports:\n" << description;
+    check_interference();
+  }
+
+  void
+  StaticProblem::check_interference() const
+  {
+    // The model is linear elastic in small strain: the interference is a
+    // strain delta / r of the fit. Metals leave their elastic range at
+    // strains of 0.1 .. 0.5 %; at 1 % the small-strain model itself fails.
+    for (unsigned int f = 0; f < pairs.n_interfaces(); ++f)
+      {
+        double r = 0;
+        for (const auto i : pairs.pairs_of(f))
+          r += std::hypot(pairs.pairs()[i].position[0], pairs.pairs()[i].position[1]);
+        r /= std::max<std::size_t>(1, pairs.pairs_of(f).size());
+        const auto  &d      = interfaces.list()[f];
+        const double strain = d.interference / r;
+        std::ostringstream m;
+        m << "Interface " << d.name << "/Radial interference = " << d.interference
+          << " m is " << std::setprecision(3) << 100 * strain << " % of the fit radius "
+          << r * 1e3 << " mm";
+        if (strain > 1e-2)
+          throw InputError(m.str() + "; rotorfit's linear small-strain model holds below 1 % "
+                                     "(metals yield at 0.1 .. 0.5 %). Check the units (metres, "
+                                     "on the radius).");
+        if (strain > 2e-3)
+          log << "Warning: " << m.str()
+              << ": above the elastic limit strain of most shaft and hub alloys (about "
+                 "0.2 %); the fit may yield, which a linear elastic model does not see.\n";
+      }
   }
 
   void
@@ -265,7 +298,7 @@ namespace rotorfit
 
     std::ofstream summary;
     if (Utilities::MPI::this_mpi_process(comm) == 0)
-      summary.open(output_dir + "/summary.txt");
+      summary.open(output_dir + "/summary.txt", std::ios::app);
     summary << std::setprecision(8);
     log << "Mass properties (curved geometry):\n";
     for (unsigned int b = 0; b < bodies.size(); ++b)

@@ -1,3 +1,5 @@
+#include <rotorfit/base/input_error.h>
+#include <rotorfit/base/run_control.h>
 #include <rotorfit/statics/static_problem.h>
 
 #include <deal.II/base/mpi.h>
@@ -47,6 +49,10 @@ namespace rotorfit
       return opening_rpm(sum_i, sum_c);
     }
 
+    /// Above this ContactPairs::asymmetry() the stationary-frame
+    /// eigenproblem (a rotationally symmetric rotor) no longer holds.
+    constexpr double asymmetry_warning = 0.5;
+
     std::string
     format(const double x)
     {
@@ -71,7 +77,8 @@ namespace rotorfit
         table << "speed_rpm,interface,closed_pairs,total_pairs,contact_fraction,"
                  "mean_pressure_Pa,max_pressure_Pa,constraint_error,"
                  "active_set_iterations,uzawa_iterations,factorizations,"
-                 "low_rank_updates,converged,first_opening_rpm,loss_of_fit_rpm\n"
+                 "low_rank_updates,converged,first_opening_rpm,loss_of_fit_rpm,"
+                 "asymmetry,status\n"
               << std::setprecision(8) << std::flush;
         openings.open(output_dir + "/pair_openings.csv");
         openings << "interface,x_m,y_m,z_m,opening_rpm,from_rpm,to_rpm\n"
@@ -81,14 +88,67 @@ namespace rotorfit
     std::vector<double> first_open(n_if, nan), loss_of_fit(n_if, nan);
     std::vector<bool>   fully_open(n_if, false);
     std::vector<double> mean_p0(n_if, nan), max_p0(n_if, nan), worst_error(n_if, 0.);
+    std::vector<double> worst_asymmetry(n_if, 0.);
+    unsigned int        unconverged_speeds = 0;
     std::vector<bool>   prev_active;
     std::vector<double> prev_I, prev_C, prev_force_I, prev_force_C;
     unsigned int        total_uzawa = 0;
     const auto          start       = std::chrono::steady_clock::now();
     unsigned int        steps_done  = 0;
 
+    // when a fit never opened in the sweep, its loss of fit is extrapolated
+    // from the last active set's affine law (or tangent): the same law as
+    // the loss_of_fit_rpm column of the last row of contact.csv
+    const auto write_summary = [&]() {
+      std::ofstream summary;
+      if (root)
+        summary.open(output_dir + "/summary.txt", std::ios::app);
+      summary << std::setprecision(8);
+      const auto &d = contact.decomposition();
+      for (unsigned int f = 0; f < n_if; ++f)
+        {
+          const std::string key = "interface." + interfaces.list()[f].name + ".";
+          double            lof = loss_of_fit[f], first = first_open[f];
+          if (!fully_open[f] && d.valid)
+            {
+              double firstp = inf;
+              for (const auto i : pairs.pairs_of(f))
+                if (d.active[i])
+                  firstp = std::min(firstp, opening_rpm(d.pressure_I[i], d.pressure_C[i]));
+              lof = total_force_zero_rpm(pairs.pairs_of(f), d.active, d.force_I, d.force_C);
+              if (std::isnan(first))
+                first = firstp;
+            }
+          summary << key << "pairs " << pairs.pairs_of(f).size() << '\n'
+                  << key << "mean_pressure_first_speed_Pa " << mean_p0[f] << '\n'
+                  << key << "max_pressure_first_speed_Pa " << max_p0[f] << '\n'
+                  << key << "constraint_error_max " << worst_error[f] << '\n'
+                  << key << "asymmetry_max " << worst_asymmetry[f] << '\n'
+                  << key << "first_opening_rpm " << first << '\n'
+                  << key << "loss_of_fit_rpm " << lof << '\n'
+                  << key << "loss_of_fit_within_sweep " << (fully_open[f] ? 1 : 0) << '\n';
+          log << "Interface " << interfaces.list()[f].name << ": first opening "
+              << format(first) << " r/min, loss of fit " << format(lof) << " r/min"
+              << (fully_open[f] ? "" :
+                  d.affine        ? " (extrapolated beyond the sweep)" :
+                                    " (extrapolated beyond the sweep along the last "
+                                    "speed's tangent: a first-order estimate)")
+              << '\n';
+        }
+      summary << "static.factorizations " << contact.n_factorizations() << '\n'
+              << "static.low_rank_updates " << contact.n_low_rank_updates() << '\n'
+              << "static.influence_columns " << contact.n_influence_columns() << '\n'
+              << "static.uzawa_iterations " << total_uzawa << '\n'
+              << "static.speeds " << steps_done << '\n'
+              << "static.unconverged_speeds " << unconverged_speeds << '\n';
+    };
+
+    try
+    {
     for (unsigned int k = 0; k < rpm.size(); ++k)
       {
+        run_control::stop_if_interrupted(comm, "before " + format(rpm[k]) + " r/min");
+        current_step = k;
         const double               w = std::pow(SpeedSchedule::rpm_to_rad_per_s(rpm[k]), 2);
         ContactSolver::State       state;
         std::vector<double>        pressure;
@@ -97,10 +157,27 @@ namespace rotorfit
           state    = contact.solve(w);
           pressure = state.pressure;
         }
+        // NaN or Inf (a factorisation that lost its digits, an extreme
+        // penalty) must never reach a result file
+        {
+          unsigned int bad = 0;
+          for (unsigned int i = 0; i < list.size(); ++i)
+            bad += !(std::isfinite(state.force[i]) && std::isfinite(state.gap[i]) &&
+                     std::isfinite(pressure[i]));
+          if (bad > 0)
+            throw SolverFailure(rpm[k],
+                                "the static contact solve at " + format(rpm[k]) +
+                                  " r/min gave non-finite forces, gaps or pressures "
+                                  "(NaN or Inf) at " + std::to_string(bad) +
+                                  " pairs: the factorisation lost its digits; lower "
+                                  "Contact/Penalty scale (now " + format(contact.penalty_scale()) + ")");
+        }
         total_uzawa += state.uzawa_iterations;
         const auto &d = contact.decomposition();
 
         std::ostringstream progress;
+        bool               row_failed = false;
+        std::string        asymmetric;
         for (unsigned int f = 0; f < n_if; ++f)
           {
             const auto  &ids = pairs.pairs_of(f);
@@ -118,6 +195,18 @@ namespace rotorfit
             pred_last = total_force_zero_rpm(ids, state.active, d.force_I, d.force_C);
             if (closed == 0)
               pred_last = nan;
+            const double asymmetry = pairs.asymmetry(f, state.active);
+            worst_asymmetry[f]     = std::max(worst_asymmetry[f], asymmetry);
+            state.asymmetry        = std::max(state.asymmetry, asymmetry);
+            std::string status     = state.converged ? "ok" : state.reason;
+            if (!(error <= contact.constraint_error_limit()))
+              {
+                status = (state.converged ? "" : status + "; ") + "constraint error " +
+                         format(error) + " above " + format(contact.constraint_error_limit());
+                row_failed = true;
+              }
+            if (asymmetry > asymmetry_warning)
+              asymmetric += " " + interfaces.list()[f].name + " " + format(asymmetry);
             const double area    = pairs.closed_area(f, state.active);
             // total normal force over the closed area (exact for uniform p)
             const double p_mean  = closed > 0 ? force / area : 0.;
@@ -178,8 +267,9 @@ namespace rotorfit
                     << ',' << ids.size() << ',' << fraction << ',' << p_mean << ','
                     << p_max << ',' << error << ',' << state.active_set_iterations
                     << ',' << state.uzawa_iterations << ',' << state.factorizations
-                    << ',' << state.low_rank_updates << ',' << (state.converged ? 1 : 0) << ',' << first_open[f]
-                    << ',' << (fully_open[f] ? loss_of_fit[f] : pred_last) << '\n';
+                    << ',' << state.low_rank_updates << ',' << (status == "ok" ? 1 : 0) << ',' << first_open[f]
+                    << ',' << (fully_open[f] ? loss_of_fit[f] : pred_last) << ','
+                    << asymmetry << ',' << status << '\n';
             progress << ' ' << interfaces.list()[f].name << ' ' << closed << '/'
                      << ids.size() << " closed, p_mean " << std::setprecision(4)
                      << p_mean / 1e6 << " MPa, error " << std::setprecision(2)
@@ -191,11 +281,26 @@ namespace rotorfit
             openings << std::flush;
           }
         if (!state.converged)
-          log << "Warning: the active set did not settle at " << rpm[k]
-              << " r/min after " << state.active_set_iterations
-              << " iterations (" << state.flipped_back
-              << " pairs flipped back and forth; the last active set is "
-                 "kept, and may hold pairs in tension); its row has converged = 0.\n";
+          log << "Warning: the static contact state at " << rpm[k]
+              << " r/min is not converged: " << state.reason
+              << " (the last active set is kept, and may hold pairs in tension); its "
+                 "rows have converged = 0, and so do its eigen rows.\n";
+        if (row_failed)
+          {
+            log << "Warning: the constraint error at " << rpm[k]
+                << " r/min exceeds its limit " << contact.constraint_error_limit()
+                << " (see contact.csv, status); its rows have converged = 0.\n";
+            state.reason += std::string(state.reason.empty() ? "" : "; ") + "constraint error";
+            state.converged = false;
+          }
+        if (!state.converged)
+          ++unconverged_speeds;
+        if (!asymmetric.empty())
+          log << "Warning: the closed set at " << rpm[k]
+              << " r/min is not rotationally symmetric (asymmetry" << asymmetric << " > "
+              << asymmetry_warning
+              << "): the stationary-frame eigenproblem assumes a symmetric rotor; "
+                 "treat this speed's modes with care.\n";
 
         if (write_paraview)
           {
@@ -213,6 +318,7 @@ namespace rotorfit
           }
 
         ++steps_done;
+        finished_steps = steps_done;
         const double elapsed =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         const double eta = elapsed / steps_done * (rpm.size() - k - 1);
@@ -239,50 +345,14 @@ namespace rotorfit
           }
       }
 
-    // when a fit never opened in the sweep, its loss of fit is extrapolated
-    // from the last active set's affine law (or tangent)
-    std::ofstream summary;
-    if (root)
-      summary.open(output_dir + "/summary.txt", std::ios::app);
-    summary << std::setprecision(8);
-    const auto &d = contact.decomposition();
-    for (unsigned int f = 0; f < n_if; ++f)
-      {
-        const std::string key = "interface." + interfaces.list()[f].name + ".";
-        double            lof = loss_of_fit[f], first = first_open[f];
-        if (!fully_open[f])
-          {
-            double last = 0, firstp = inf;
-            for (const auto i : pairs.pairs_of(f))
-              if (d.active[i])
-                {
-                  last   = std::max(last, opening_rpm(d.pressure_I[i], d.pressure_C[i]));
-                  firstp = std::min(firstp, opening_rpm(d.pressure_I[i], d.pressure_C[i]));
-                }
-            lof = last;
-            if (std::isnan(first))
-              first = firstp;
-          }
-        summary << key << "pairs " << pairs.pairs_of(f).size() << '\n'
-                << key << "mean_pressure_first_speed_Pa " << mean_p0[f] << '\n'
-                << key << "max_pressure_first_speed_Pa " << max_p0[f] << '\n'
-                << key << "constraint_error_max " << worst_error[f] << '\n'
-                << key << "first_opening_rpm " << first << '\n'
-                << key << "loss_of_fit_rpm " << lof << '\n'
-                << key << "loss_of_fit_within_sweep " << (fully_open[f] ? 1 : 0) << '\n';
-        log << "Interface " << interfaces.list()[f].name << ": first opening "
-            << format(first) << " r/min, loss of fit " << format(lof) << " r/min"
-            << (fully_open[f] ? "" :
-                d.affine        ? " (extrapolated beyond the sweep)" :
-                                  " (extrapolated beyond the sweep along the last "
-                                  "speed's tangent: a first-order estimate)")
-            << '\n';
-      }
-    summary << "static.factorizations " << contact.n_factorizations() << '\n'
-            << "static.low_rank_updates " << contact.n_low_rank_updates() << '\n'
-            << "static.influence_columns " << contact.n_influence_columns() << '\n'
-            << "static.uzawa_iterations " << total_uzawa << '\n'
-            << "static.speeds " << steps_done << '\n';
+    }
+    catch (...)
+    {
+      // the speeds already done keep their summary
+      write_summary();
+      throw;
+    }
+    write_summary();
     log << "Static sweep: " << steps_done << " speeds, "
         << contact.n_factorizations() << " factorisations, "
         << contact.n_low_rank_updates() << " low-rank updates ("
@@ -294,6 +364,20 @@ namespace rotorfit
         << " s influence columns, " << contact.timing().solves
         << " s load-case back-substitutions" << std::defaultfloat
         << std::setprecision(6) << '\n';
+  }
+
+  std::string
+  StaticProblem::progress() const
+  {
+    if (current_step < 0)
+      return "during set-up";
+    const auto &rpm = speeds.speeds_rpm();
+    if (finished_steps == static_cast<unsigned int>(current_step) + 1)
+      return "after " + format(rpm[current_step]) + " r/min (" + std::to_string(finished_steps) +
+             " of " + std::to_string(rpm.size()) + " speeds finished)";
+    return "at " + format(rpm[current_step]) + " r/min (speed " +
+           std::to_string(current_step + 1) + " of " + std::to_string(rpm.size()) + "; " +
+           std::to_string(finished_steps) + " speeds finished)";
   }
 
   void

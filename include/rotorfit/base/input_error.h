@@ -1,15 +1,26 @@
 #pragma once
 
+#include <set>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace rotorfit
 {
+  /// Process exit codes (README, doc/limits.md).
+  namespace exit_code
+  {
+    constexpr int success     = 0;
+    constexpr int input_error = 1; ///< the input was refused before any solve
+    constexpr int solver      = 2; ///< a solver failed; finished speeds kept
+    constexpr int interrupted = 3; ///< SIGINT/SIGTERM; finished speeds kept
+  } // namespace exit_code
+
   /**
    * An error that bad input can trigger (parameter file, geometry, physical
    * groups, interfaces). main() prints its message once, without a stack
-   * trace, and exits with a non-zero code. The message names the file or
-   * entry, the bad value and the fix.
+   * trace, and exits with exit_code::input_error. The message names the file
+   * or entry, the bad value and the fix.
    */
   class InputError : public std::runtime_error
   {
@@ -18,4 +29,41 @@ namespace rotorfit
       : std::runtime_error(message)
     {}
   };
+
+  /**
+   * A solver outcome that makes the results of a speed wrong (unconverged
+   * eigenpairs, NaN or Inf in a result): the run stops with
+   * exit_code::solver, keeping the speeds already written.
+   */
+  class SolverFailure : public std::runtime_error
+  {
+  public:
+    SolverFailure(const double rpm, const std::string &message)
+      : std::runtime_error(message)
+      , rpm(rpm)
+    {}
+    double rpm; ///< speed at which it failed [r/min]
+  };
+
+  /// The run was asked to stop by a signal (exit_code::interrupted).
+  class Interrupted : public std::runtime_error
+  {
+  public:
+    explicit Interrupted(const std::string &message)
+      : std::runtime_error(message)
+    {}
+  };
+
+  /// Refuses a list entry that names the same thing twice (e.g. one bearing
+  /// twice would double its stiffness).
+  inline void
+  check_unique(const std::vector<std::string> &names, const std::string &entry)
+  {
+    std::set<std::string> seen;
+    for (const auto &n : names)
+      if (!seen.insert(n).second)
+        throw InputError(entry + ": '" + n +
+                         "' appears twice; give each name once (a repeated "
+                         "name would count its feature twice).");
+  }
 } // namespace rotorfit

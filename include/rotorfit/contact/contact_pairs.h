@@ -125,6 +125,17 @@ namespace rotorfit
     std::vector<double>
     pressure(const std::vector<double> &force) const;
 
+    /**
+     * Rotational symmetry of the closed set of interface @p i [-]: the
+     * interface is cut into 4 axial rings and 8 angular sectors; in each
+     * ring, 1 - (least closed fraction of a sector) / (largest one). 0: every
+     * sector of every ring equally closed (or the ring all open); 1: a
+     * sector of a ring is open while another holds. The stationary-frame
+     * eigenproblem assumes 0.
+     */
+    double
+    asymmetry(const unsigned int i, const std::vector<bool> &closed) const;
+
   private:
     struct Surface
     {

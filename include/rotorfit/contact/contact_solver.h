@@ -13,6 +13,7 @@
 #include <deal.II/lac/petsc_vector.h>
 #include <deal.II/lac/vector.h>
 
+#include <string>
 #include <vector>
 
 namespace rotorfit
@@ -70,6 +71,7 @@ namespace rotorfit
       bool   affine  = true; ///< false: a tangent at w_fixed
       double w_fixed = 0;
       bool   valid   = false;
+      bool   uzawa_converged = true; ///< false: a load case hit the Uzawa cap
       unsigned int serial = 0; ///< changes with every new decomposition
     };
 
@@ -87,6 +89,9 @@ namespace rotorfit
       unsigned int        influence_columns     = 0; ///< columns computed
       unsigned int        flipped_back          = 0; ///< pairs that flipped back (cycling)
       bool                converged             = true;
+      std::string         reason; ///< why not converged (empty if it is)
+      /// largest ContactPairs::asymmetry() over the interfaces (set by the sweep)
+      double              asymmetry = 0;
     };
 
     static void
@@ -133,6 +138,15 @@ namespace rotorfit
     method() const
     {
       return contact_method;
+    }
+
+    /// Largest constraint error max |g| / delta of the closed pairs that
+    /// still counts as converged [-]: 10 x Uzawa tolerance (augmented
+    /// Lagrangian), Constraint error limit (penalty).
+    double
+    constraint_error_limit() const
+    {
+      return contact_method == Method::penalty ? penalty_error_limit : 10 * uzawa_tolerance;
     }
 
     double
@@ -247,6 +261,8 @@ namespace rotorfit
     unsigned int max_uzawa_iterations      = 100;
     double       uzawa_tolerance           = 1e-8;
     double       update_limit              = 0.25;
+    double       penalty_error_limit       = 0.01;
+    bool         uzawa_capped              = false; ///< in the decomposition being built
 
     const ContactPairs                             *pairs       = nullptr;
     const dealii::AffineConstraints<double>        *constraints = nullptr;

@@ -44,10 +44,14 @@ namespace rotorfit
          const double                    mac_threshold);
 
     /// Assign tracked ids to @p modes, write their rows and any crossings.
+    /// @p static_converged and @p asymmetry describe the static state the
+    /// modes rest on (ContactSolver::State); every row carries them.
     void
     add_speed(const double             rpm,
               std::vector<WhirlMode>  &modes,
-              const std::string       &fit_state);
+              const std::string       &fit_state,
+              const bool               static_converged,
+              const double             asymmetry);
 
     unsigned int
     n_critical_speeds() const

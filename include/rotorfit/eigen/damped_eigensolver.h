@@ -57,6 +57,10 @@ namespace rotorfit
       unsigned int requested   = 0; ///< ARPACK nev (conjugates counted twice)
       unsigned int krylov_size = 0;
       unsigned int iterations  = 0; ///< Arnoldi restarts used
+      unsigned int max_restarts = 0; ///< cap of this attempt
+      /// ARPACK slots left unconverged (deal.II 9.4 returns them as 0 + 0i
+      /// with its checks compiled out): never eigenvalues, never rigid modes
+      unsigned int unconverged_slots = 0;
       unsigned int operator_applications = 0;
       double       factorization_seconds = 0, arnoldi_seconds = 0,
                    solve_seconds = 0, check_seconds = 0;
@@ -65,7 +69,10 @@ namespace rotorfit
     /**
      * The @p n_eigenvalues eigenvalues closest to the shift (conjugate pairs
      * count twice), each pair once with Im lambda >= 0, sorted by |lambda|.
-     * @p Q_out receives Q(sigma) (same pattern as K). Throws if ARPACK fails.
+     * @p Q_out receives Q(sigma) (same pattern as K). @p attempt > 0 is a
+     * retry on the same matrices: the factorisation is reused and the
+     * Krylov space and restart cap grow by 2^attempt. Unconverged ARPACK
+     * slots are dropped and counted in @p statistics.
      */
     std::vector<EigenPair>
     solve(const dealii::PETScWrappers::MPI::SparseMatrix &M,
@@ -73,7 +80,12 @@ namespace rotorfit
           const dealii::PETScWrappers::MPI::SparseMatrix &K,
           dealii::PETScWrappers::MPI::SparseMatrix       &Q,
           const unsigned int                              n_eigenvalues,
-          Statistics                                     &statistics);
+          Statistics                                     &statistics,
+          const unsigned int                              attempt = 0);
+
+    /// Arnoldi vectors for @p nev eigenvalues at Krylov growth @p growth.
+    unsigned int
+    krylov_size(const unsigned int nev, const double growth = 1) const;
 
     double
     shift() const

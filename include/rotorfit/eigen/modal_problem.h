@@ -65,6 +65,20 @@ namespace rotorfit
       return compute;
     }
 
+    const Bearings &
+    bearing_list() const
+    {
+      return bearings;
+    }
+
+    /// Vectors of length 2 n the eigensolver may hold at once (Krylov space
+    /// of a retry and the eigenvectors), for the memory estimate.
+    double
+    state_vectors_needed(const double n_dofs) const
+    {
+      return std::min<double>(2 * n_dofs, eigensolver.krylov_size(max_nev, 2)) + max_nev + 1;
+    }
+
     /// Bearing faces, sparsity, whirl stations (after StaticProblem::setup()).
     void
     setup();
@@ -149,6 +163,7 @@ namespace rotorfit
     std::vector<bool>                       frozen_active;
     std::vector<std::pair<double, std::string>> pvd_records;
     unsigned int speeds_done = 0;
+    unsigned int max_nev     = 0; ///< eigenvalues asked at the most tied state
     double       worst_backward_error = 0;
     bool         announced_loose      = false;
   };

@@ -105,6 +105,11 @@ namespace rotorfit
 
     GmshData
     run_gmsh() const;
+    /// Refuses a mesh too big for the machine before gmsh meshes it: from
+    /// Mesh.MeshSizeMax and the body volumes, then (@p surfaces_meshed)
+    /// also from the surface mesh.
+    void
+    check_volume_mesh_size(const bool surfaces_meshed) const;
 
     void
     build_position_field(

@@ -134,6 +134,17 @@ namespace rotorfit
     }
     /// @}
 
+    const std::vector<std::string> &
+    roller_surface_list() const
+    {
+      return roller_surfaces;
+    }
+
+    /// Where the sweep is, for a stop message: "at 12000 r/min (speed 13 of
+    /// 31; 12 speeds finished)", or "during set-up".
+    std::string
+    progress() const;
+
     /// Timing summary for the log.
     void
     print_timing(std::ostream &out) const;
@@ -141,6 +152,9 @@ namespace rotorfit
   private:
     void
     compute_support_points();
+    /// Interference against the fit radius (small strain, elastic limit).
+    void
+    check_interference() const;
     void
     setup_system();
     void
@@ -182,6 +196,9 @@ namespace rotorfit
     dealii::Vector<double>                   stiffness_diagonal;
 
     std::vector<std::pair<double, std::string>> pvd_records;
+    // sweep position (for progress())
+    int          current_step   = -1;
+    unsigned int finished_steps = 0;
     std::unique_ptr<dealii::TimerOutput>        timer;
     std::ostringstream                          timer_stream;
   };

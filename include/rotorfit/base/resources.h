@@ -1,0 +1,65 @@
+#pragma once
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+namespace rotorfit
+{
+  /**
+   * Memory estimates made before the work starts, so that a model too big
+   * for the machine is refused with the estimate instead of hanging in gmsh
+   * or dying in an allocation. The constants are measured (doc/limits.md):
+   * quadratic tetrahedra of TS, 23,257 cells, 105,963 DOFs, 8.47M nonzeros;
+   * MUMPS LU peak 2.4 GB, nested-dissection fill growing as n^(4/3).
+   */
+  namespace resources
+  {
+    constexpr double measured_dofs           = 105963;
+    constexpr double measured_lu_bytes       = 2.4e9;
+    constexpr double nonzeros_per_dof        = 80;  ///< P2 elasticity rows
+    constexpr double dofs_per_tetrahedron    = 4.6; ///< P2, 3 components
+    constexpr double regular_tet_volume      = 0.1179; ///< h^3 / (6 sqrt 2)
+
+    /// MUMPS factor of an n x n P2 elasticity matrix [bytes] (LU; LDL^T half).
+    inline double
+    factorization_bytes(const double n, const bool symmetric)
+    {
+      return (symmetric ? 0.5 : 1.0) * measured_lu_bytes *
+             std::pow(n / measured_dofs, 4. / 3.);
+    }
+
+    /// One PETSc AIJ matrix of n rows [bytes] (value + column index).
+    inline double
+    sparse_matrix_bytes(const double n)
+    {
+      return n * nonzeros_per_dof * 12.;
+    }
+
+    /// Memory the run may use [bytes]: the machine's physical memory, or
+    /// ROTORFIT_MEMORY_GB if set (a share of a machine used by others).
+    inline double
+    physical_memory_bytes()
+    {
+      if (const char *limit = std::getenv("ROTORFIT_MEMORY_GB"))
+        {
+          const double gb = std::atof(limit);
+          if (gb > 0)
+            return gb * 1e9;
+        }
+      return static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
+             static_cast<double>(::sysconf(_SC_PAGE_SIZE));
+    }
+
+    inline std::string
+    gigabytes(const double bytes)
+    {
+      char s[32];
+      std::snprintf(s, sizeof(s), "%.3g GB", bytes / 1e9);
+      return s;
+    }
+  } // namespace resources
+} // namespace rotorfit
