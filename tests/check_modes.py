@@ -341,11 +341,14 @@ def check_fixed(exe, prm, out, n_modes):
 
 
 def rigid_counts(out):
-    """Number of rigid-body rows of rigid_modes.csv per speed (every speed)."""
+    """Rigid-body eigenvalues per speed from rigid_modes.csv, counted in state
+    space: a row with frequency > 0 stands for a conjugate pair (2), a real
+    one for 1 (round-off splits a rigid motion's double zero either way)."""
     counts = {r["speed_rpm"]: 0 for r in rows(out)}
     for r in rows(out, "rigid_modes.csv"):
         if r["kind"] == "rigid":
-            counts[r["speed_rpm"]] = counts.get(r["speed_rpm"], 0) + 1
+            counts[r["speed_rpm"]] = counts.get(r["speed_rpm"], 0) + \
+                (2 if float(r["frequency_hz"]) != 0 else 1)
     return counts
 
 

@@ -66,7 +66,8 @@ def set_output(prm, outdir):
 
 def falls(exe, prm, outdir):
     """Contact fraction of every interface: 1 at the first speed, then
-    strictly decreasing once below 1, and still > 0 (partial opening)."""
+    strictly decreasing once below 1, and still > 0 (partial opening); the
+    asymmetry measure and the loss-of-fit speed consistent (see below)."""
     run(exe, prm)
     import csv
     rows = list(csv.DictReader(open(os.path.join(outdir, "contact.csv"))))
@@ -79,6 +80,19 @@ def falls(exe, prm, outdir):
         opened = [x for x in f if x[1] < 1]
         ok &= len(opened) >= 2 and all(b[1] < a[1] for a, b in zip(opened, opened[1:]))
         ok &= f[-1][1] > 0
+        # the asymmetry measure (consistency): exactly 0 on a closed fit,
+        # within [0, 1] everywhere, and the log warns exactly above 0.5
+        a = [(float(r["contact_fraction"]), float(r["asymmetry"])) for r in rows
+             if r["interface"] == name]
+        print(name, "asymmetry", [x[1] for x in a])
+        ok &= all(x[1] == 0 for x in a if x[0] == 1) and all(0 <= x[1] <= 1 for x in a)
+        warned = "not rotationally symmetric" in open(os.path.join(outdir, "log.txt")).read()
+        ok &= warned == any(x[1] > 0.5 for x in a)
+        # one loss-of-fit speed: the last row of contact.csv and summary.txt
+        last = [r for r in rows if r["interface"] == name][-1]
+        lof = summary_value(outdir, f"interface.{name}.loss_of_fit_rpm")
+        print(name, "loss of fit: contact.csv", last["loss_of_fit_rpm"], "summary.txt", lof)
+        ok &= abs(float(last["loss_of_fit_rpm"]) / lof - 1) < 1e-7
     print("contact fraction falls with speed:", "ok" if ok else "FAILED")
     return 0 if ok else 1
 
@@ -115,8 +129,8 @@ def summary_value(outdir, key):
 
 def ratio(exe, prm_a, out_a, prm_b, out_b, keys, expected, rtol):
     """KEYS: comma-separated; each KEY(A)/KEY(B) must equal EXPECTED."""
-    run(exe, prm_a)
-    run(exe, prm_b)
+    run(exe, set_output(prm_a, out_a))
+    run(exe, set_output(prm_b, out_b))
     failed = 0
     for key in keys.split(","):
         a, b = summary_value(out_a, key), summary_value(out_b, key)

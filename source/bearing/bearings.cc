@@ -9,6 +9,7 @@
 
 #include <deal.II/lac/full_matrix.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -27,6 +28,10 @@ namespace rotorfit
     void
     check_coefficients(const std::string &where, const double *v)
     {
+      for (unsigned int i = 0; i < 8; ++i)
+        if (!std::isfinite(v[i]))
+          throw InputError(where + ": " + names[i] + " = " + std::to_string(v[i]) +
+                           " is not a finite number.");
       for (const unsigned int i : {0u, 1u, 4u, 5u})
         if (!(v[i] >= 0))
           throw InputError(where + ": " + names[i] + " = " + std::to_string(v[i]) +

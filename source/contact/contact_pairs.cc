@@ -350,7 +350,8 @@ namespace rotorfit
               lo             = std::min(lo, f);
               hi             = std::max(hi, f);
             }
-        if (hi > 0)
+        // a ring equally closed in every sector is 0 exactly, not round-off
+        if (hi > 0 && hi - lo > 1e-12 * hi)
           worst = std::max(worst, 1 - lo / hi);
       }
     return worst;

@@ -65,9 +65,10 @@ namespace rotorfit
                       "10",
                       Patterns::Double(0.01, 1e8),
                       "alpha [-], 0.01 .. 1e8 (0 would switch the contact "
-                      "off; above 1e8 the penalty springs swamp the elastic "
-                      "stiffness in double precision and the factorisation "
-                      "loses every digit): each pair's penalty is alpha times the mean "
+                      "off; 1e8 is measured to work on the thin-disk fit; beyond it the "
+                      "penalty springs outweigh the elastic stiffness by more "
+                      "than half of double precision's digits): each pair's "
+                      "penalty is alpha times the mean "
                       "radial diagonal stiffness of its two nodes. 10..100 for "
                       "the augmented Lagrangian, 1e3..1e4 for pure penalty.");
     prm.declare_entry("Maximum active set iterations",

@@ -533,7 +533,11 @@ namespace rotorfit
             if (rigid_mode || real_mode || in_loose_body)
               {
                 const std::string kind = in_loose_body ? "loose" : rigid_mode ? "rigid" : "overdamped";
-                (in_loose_body ? n_loose : rigid_mode ? n_rigid : n_overdamped) += 1;
+                // counted as state-space eigenvalues: a rigid motion is a
+                // double zero that round-off splits into a tiny conjugate
+                // pair (one row) or two tiny real values (two rows)
+                (in_loose_body ? n_loose : rigid_mode ? n_rigid : n_overdamped) +=
+                  (p.lambda.imag() != 0 ? 2 : 1);
                 std::ostringstream row;
                 row << std::setprecision(10) << rpm << ',' << kind << ','
                     << (in_loose_body ? bodies[dominant].name : "assembly") << ','
@@ -582,7 +586,7 @@ namespace rotorfit
       line << " " << std::setprecision(5) << elastic.front().frequency_hz() << " .. "
            << elastic.back().frequency_hz() << " Hz";
     line << ", " << n_rigid << " rigid, " << n_loose << " loose-body, " << n_overdamped
-         << " overdamped; nev " << stats.requested << ", Krylov " << stats.krylov_size
+         << " overdamped (state-space eigenvalues); nev " << stats.requested << ", Krylov " << stats.krylov_size
          << ", " << stats.iterations << " restarts, " << stats.operator_applications
          << " solves, max backward error " << std::setprecision(2) << worst
          << "; " << std::setprecision(3) << stats.factorization_seconds << " s LU, "

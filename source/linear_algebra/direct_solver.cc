@@ -66,24 +66,50 @@ namespace rotorfit
   void
   DirectSolver::factorize(const PETScWrappers::MPI::SparseMatrix &matrix)
   {
-    destroy();
     const Mat A = matrix;
     MPI_Comm  comm;
     check(PetscObjectGetComm(reinterpret_cast<PetscObject>(A), &comm),
           "PetscObjectGetComm");
-    check(KSPCreate(comm, &ksp), "KSPCreate");
     if (type == Type::mumps_cholesky)
       check(MatSetOption(A, MAT_SYMMETRIC, PETSC_TRUE), "MatSetOption");
-    check(KSPSetOperators(ksp, A, A), "KSPSetOperators");
-    check(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
-    PC pc;
-    check(KSPGetPC(ksp, &pc), "KSPGetPC");
-    check(PCSetType(pc, type == Type::mumps_lu ? PCLU : PCCHOLESKY),
-          "PCSetType");
-    check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS),
-          "PCFactorSetMatSolverType");
-    check(KSPSetErrorIfNotConverged(ksp, PETSC_TRUE), "KSPSetErrorIfNotConverged");
-    check(KSPSetUp(ksp), "factorisation (KSPSetUp)");
+    // MUMPS sizes its workspace from the analysis plus ICNTL(14) percent;
+    // delayed pivots of LDL^T can exceed it (INFOG(1) = -8, -9: seen on TS
+    // with 2 ranks). Such a failure is retried with more room, any other
+    // is an error.
+    PetscErrorCode code = 0;
+    PetscInt       info = 0;
+    for (const PetscInt relax : {0, 100, 400})
+      {
+        destroy();
+        check(KSPCreate(comm, &ksp), "KSPCreate");
+        check(KSPSetOperators(ksp, A, A), "KSPSetOperators");
+        check(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
+        PC pc;
+        check(KSPGetPC(ksp, &pc), "KSPGetPC");
+        check(PCSetType(pc, type == Type::mumps_lu ? PCLU : PCCHOLESKY), "PCSetType");
+        check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
+        check(PCFactorSetUpMatSolverType(pc), "PCFactorSetUpMatSolverType");
+        Mat factor;
+        check(PCFactorGetMatrix(pc, &factor), "PCFactorGetMatrix");
+        if (relax > 0)
+          check(MatMumpsSetIcntl(factor, 14, relax), "MatMumpsSetIcntl");
+        check(KSPSetErrorIfNotConverged(ksp, PETSC_TRUE), "KSPSetErrorIfNotConverged");
+        check(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr), "PetscPushErrorHandler");
+        code = KSPSetUp(ksp);
+        PetscPopErrorHandler();
+        if (code == 0)
+          break;
+        info = 0;
+        MatMumpsGetInfog(factor, 1, &info);
+        if (info != -8 && info != -9 && info != -11 && info != -14 && info != -15)
+          break;
+      }
+    if (code != 0)
+      throw std::runtime_error("PETSc/MUMPS failed in factorisation (KSPSetUp) (error " +
+                               std::to_string(code) + ", MUMPS INFOG(1) = " +
+                               std::to_string(info) +
+                               "). If INFOG(1) = -10 the matrix is singular: is every "
+                               "body held? If it is -13, memory ran out.");
     ++factorizations;
   }
 

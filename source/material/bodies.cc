@@ -3,6 +3,7 @@
 
 #include <deal.II/base/utilities.h>
 
+#include <cmath>
 #include <set>
 
 namespace rotorfit
@@ -82,6 +83,9 @@ namespace rotorfit
         b.youngs_modulus = number("Young's modulus");
         b.poissons_ratio = number("Poisson's ratio");
         b.density        = number("Density");
+        if (!std::isfinite(b.youngs_modulus) || !std::isfinite(b.density))
+          throw InputError("Body " + name +
+                           ": Young's modulus and Density must be finite numbers.");
         if (!(b.youngs_modulus > 0) || !(b.density > 0))
           throw InputError("Body " + name +
                            ": Young's modulus and Density must be > 0.");
