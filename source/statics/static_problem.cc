@@ -155,6 +155,7 @@ namespace rotorfit
           << interfaces.list()[i].interference * 1e6 << " um\n";
     log << "Static supports:\n" << description;
     check_interference();
+    check_tip_speed();
   }
 
   void
@@ -183,6 +184,28 @@ namespace rotorfit
           log << "Warning: " << m.str()
               << ": above the elastic limit strain of most shaft and hub alloys (about "
                  "0.2 %); the fit may yield, which a linear elastic model does not see.\n";
+      }
+  }
+
+  void
+  StaticProblem::check_tip_speed() const
+  {
+    // A speed range that no rotor survives is a units slip (rad/s, Hz
+    // or r/min): the rim speed of the largest radius against 2,000 m/s,
+    // about twice the burst speed of the strongest metal disks.
+    double r_max = 0;
+    for (const auto &p : support_points)
+      r_max = std::max(r_max, std::hypot(p[0], p[1]));
+    const double rpm = speeds.speeds_rpm().back();
+    const double tip = SpeedSchedule::rpm_to_rad_per_s(rpm) * r_max;
+    if (tip > 2000)
+      {
+        std::ostringstream m;
+        m << std::setprecision(3) << "Speeds: the last speed, " << rpm
+          << " r/min, moves the outer radius " << r_max * 1e3 << " mm at " << tip
+          << " m/s; no metal rotor survives 2,000 m/s (disks burst at 500 .. 1,000 m/s). "
+             "Speeds are in r/min.";
+        throw InputError(m.str());
       }
   }
 

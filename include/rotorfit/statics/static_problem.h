@@ -155,6 +155,9 @@ namespace rotorfit
     /// Interference against the fit radius (small strain, elastic limit).
     void
     check_interference() const;
+    /// The rim speed of the last speed against what any rotor survives.
+    void
+    check_tip_speed() const;
     void
     setup_system();
     void
