@@ -384,7 +384,10 @@ def check_failure(exe, prm, out, text):
     ok &= status.get("run.status") == "failed" and status.get("run.exit_code") == "2"
     ok &= "r/min" in status.get("run.stopped_at", "") and text in status.get("run.message", "")
     done = {x["speed_rpm"] for x in kept}
-    ok &= str(len(done)) in status.get("run.stopped_at", "")
+    finished = re.search(r"(\d+) (?:of \d+ )?speeds finished", status.get("run.stopped_at", ""))
+    print("speeds in campbell.csv:", len(done), "; finished per summary.txt:",
+          finished.group(1) if finished else None)
+    ok &= finished is not None and int(finished.group(1)) == len(done)
     return 0 if ok else 1
 
 

@@ -201,9 +201,9 @@ def valid(exe, prm):
 def static_flags(exe, prm, outdir, text, limit=None):
     """A static state that is not converged must say so everywhere: the run
     ends with exit code 0, every row of contact.csv with closed pairs has
-    converged = 0 and TEXT in its status (a fully open fit has nothing to
-    converge: 'ok'; with LIMIT only the rows whose constraint error exceeds
-    it), every row of campbell.csv at those speeds has
+    converged = 0 and TEXT in its status (with LIMIT only the rows whose
+    constraint error exceeds it; a row without closed pairs is not judged),
+    every row of campbell.csv at those speeds has
     static_converged = 0, summary.txt counts those speeds and the log warns."""
     import csv
     run(exe, set_output(prm, outdir))
@@ -217,8 +217,10 @@ def static_flags(exe, prm, outdir, text, limit=None):
                                            float(r["constraint_error"]) > float(limit)):
             ok &= r["converged"] == "0" and text in r["status"]
             flagged.add(r["speed_rpm"])
-        else:
+        elif int(r["closed_pairs"]) > 0:
             ok &= r["converged"] == "1" and r["status"] == "ok"
+        elif r["converged"] == "0":
+            flagged.add(r["speed_rpm"])
     ok &= len(flagged) > 0
     campbell = os.path.join(outdir, "campbell.csv")
     if os.path.isfile(campbell):

@@ -17,6 +17,7 @@
 #include <deal.II/base/revision.h>
 #include <deal.II/base/utilities.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -118,9 +119,13 @@ namespace rotorfit
       double       eigen      = 0;
       if (modal.enabled())
         eigen = factorization_bytes(n, false) + 12 * sparse_matrix_bytes(n) +
-                modal.state_vectors_needed(n) * 2 * n * 8.;
-      const double peak  = std::max(statics, eigen);
-      const double limit = physical_memory_bytes();
+                // the Arnoldi vectors are replicated on every rank
+                Utilities::MPI::n_mpi_processes(problem.mpi_communicator()) *
+                  modal.state_vectors_needed(n) * 2 * n * 8.;
+      const double peak = std::max(statics, eigen);
+      // rank 0 decides for all (ranks may see other environments or nodes)
+      const double limit = Utilities::MPI::broadcast(problem.mpi_communicator(),
+                                                     physical_memory_bytes(), 0);
       log << "Memory estimate: " << gigabytes(peak) << " at the peak ("
           << (eigen > statics ? "eigenproblem" : "static solve") << "), machine "
           << gigabytes(limit) << '\n';
@@ -139,14 +144,28 @@ namespace rotorfit
     void
     parse_file(ParameterHandler &prm, const std::string &file)
     {
-      const std::string        text = read_parameter_file(file);
+      // .prm files are scanned (BOM, entries set twice); deal.II reads
+      // .json and .xml itself
+      const std::string ext  = std::filesystem::path(file).extension().string();
+      const bool        prm_format = ext != ".json" && ext != ".xml";
+      const std::string text = prm_format ? read_parameter_file(file) : "";
+      if (!prm_format && !std::filesystem::exists(file))
+        throw InputError("the parameter file '" + file + "' does not exist.");
+      const auto read = [&](ParameterHandler &handler, const bool skip_undefined) {
+        if (prm_format)
+          {
+            std::istringstream in(text);
+            handler.parse_input(in, file, "", skip_undefined);
+          }
+        else
+          handler.parse_input(file, "", skip_undefined);
+      };
       std::vector<std::string> bodies, interfaces, bearings;
       try
         {
-          ParameterHandler   first;
-          std::istringstream in1(text);
+          ParameterHandler first;
           declare_all(first, {}, {}, {});
-          first.parse_input(in1, file, "", true);
+          read(first, true);
           bodies = Utilities::split_string_list(first.get("Bodies"), ',');
           interfaces =
             Utilities::split_string_list(first.get("Interfaces"), ',');
@@ -155,8 +174,7 @@ namespace rotorfit
           check_unique(interfaces, file + ": Interfaces");
           check_unique(bearings, file + ": Bearings");
           declare_all(prm, bodies, interfaces, bearings);
-          std::istringstream in2(text);
-          prm.parse_input(in2, file, "", false);
+          read(prm, false);
         }
       catch (const ExceptionBase &e)
         {
@@ -227,7 +245,11 @@ namespace rotorfit
       if (!where.empty())
         summary << "run.stopped_at " << where << '\n';
       if (!message.empty())
-        summary << "run.message " << message << '\n';
+        {
+          std::string line = message; // one line: summary.txt is key value
+          std::replace(line.begin(), line.end(), '\n', ' ');
+          summary << "run.message " << line << '\n';
+        }
     };
     try
       {

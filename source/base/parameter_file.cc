@@ -64,13 +64,17 @@ namespace rotorfit
         logical += t;
         std::string statement = trim(logical.substr(0, logical.find('#')));
         logical.clear();
-        if (statement.rfind("subsection", 0) == 0 &&
-            (statement.size() == 10 || statement[10] == ' ' || statement[10] == '\t'))
+        // deal.II's keywords, in lower or upper case
+        const auto keyword = [&](const std::string &lower, const std::string &upper) {
+          const std::size_t n = lower.size();
+          return (statement.compare(0, n, lower) == 0 || statement.compare(0, n, upper) == 0) &&
+                 (statement.size() == n || statement[n] == ' ' || statement[n] == '\t');
+        };
+        if (keyword("subsection", "SUBSECTION"))
           path.push_back(normalise(statement.substr(10)));
-        else if (statement == "end" && !path.empty())
+        else if ((statement == "end" || statement == "END") && !path.empty())
           path.pop_back();
-        else if (statement.rfind("set", 0) == 0 && statement.size() > 3 &&
-                 (statement[3] == ' ' || statement[3] == '\t'))
+        else if (keyword("set", "SET") && statement.size() > 3)
           {
             const auto        eq   = statement.find('=');
             const std::string name = normalise(statement.substr(3, eq == std::string::npos ? std::string::npos : eq - 3));

@@ -87,7 +87,7 @@ namespace rotorfit
     lock_output_directory(const std::string &directory)
     {
       const std::string path = directory + "/.rotorfit.lock";
-      const int         fd   = ::open(path.c_str(), O_RDWR | O_CREAT, 0644);
+      const int         fd   = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
       if (fd < 0)
         throw InputError("Output/Directory = '" + directory + "': cannot write '" +
                          path + "' (" + std::strerror(errno) + ").");

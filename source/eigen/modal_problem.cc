@@ -265,7 +265,11 @@ namespace rotorfit
     const unsigned int zeros =
       expected_zero_modes(std::vector<bool>(statics.contact_pairs().pairs().size(), true), loose);
     const std::size_t nev = 2 * n_modes + 2 * zeros + 1;
-    max_nev               = nev;
+    // the most eigenvalues a speed may ask for: every fit open (each body
+    // its own rigid group), plus what a retry adds
+    const unsigned int loose_zeros =
+      expected_zero_modes(std::vector<bool>(statics.contact_pairs().pairs().size(), false), loose);
+    max_nev = 2 * n_modes + 2 * std::max(zeros, loose_zeros) + 1 + 2 * n_modes;
     if (nev + 3 > 2 * dof_handler.n_dofs())
       throw InputError("Eigenproblem/Number of modes = " + std::to_string(n_modes) +
                        " needs " + std::to_string(nev) +
@@ -509,7 +513,8 @@ namespace rotorfit
         worst       = 0;
         for (auto &p : pairs)
           {
-            if (!(p.backward_error <= worst)) // NaN included
+            if (std::isnan(p.backward_error) ||
+                (!std::isnan(worst) && p.backward_error > worst)) // NaN sticks
               worst = p.backward_error;
             if (!(p.backward_error <= eigensolver.backward_error_limit()))
               {
@@ -561,17 +566,20 @@ namespace rotorfit
           << "; " << n_rigid << " rigid, " << n_loose << " loose-body, " << n_overdamped
           << " overdamped) with " << stats.requested << " eigenvalues, Krylov size "
           << stats.krylov_size << ", at most " << stats.max_restarts << " restarts";
-        if (attempt == 0)
+        const unsigned int more = 2 * (n_modes - std::min<unsigned int>(n_modes, elastic.size()));
+        if (attempt == 0 && nev + more + 3 <= 2 * statics.dofs().n_dofs())
           {
-            nev += 2 * (n_modes - std::min<unsigned int>(n_modes, elastic.size()));
+            nev += more;
             log << "  eigen: retry " << m.str() << "; again with twice the Krylov space\n";
             continue;
           }
         throw SolverFailure(rpm,
                             "the eigensolver did not converge " + m.str() +
-                              " (after one retry with twice the Krylov space); raise "
-                              "Eigenproblem/Maximum restarts or Krylov size factor, or move "
-                              "the Shift");
+                              (attempt > 0 ? " (after one retry with twice the Krylov space)" :
+                                             " (no retry: the model has too few DOFs for more "
+                                             "eigenvalues)") +
+                              "; raise Eigenproblem/Maximum restarts or Krylov size factor, or "
+                              "move the Shift");
       }
     if (root)
       {

@@ -99,26 +99,34 @@ namespace rotorfit
     // when a fit never opened in the sweep, its loss of fit is extrapolated
     // from the last active set's affine law (or tangent): the same law as
     // the loss_of_fit_rpm column of the last row of contact.csv
-    const auto write_summary = [&]() {
+    // after a failure, the last finished speed's laws (prev_*), never those
+    // of the speed that failed
+    const auto write_summary = [&](const bool failed) {
       std::ofstream summary;
       if (root)
         summary.open(output_dir + "/summary.txt", std::ios::app);
       summary << std::setprecision(8);
-      const auto &d = contact.decomposition();
+      const auto &d      = contact.decomposition();
+      const bool  have   = failed ? !prev_active.empty() : d.valid;
+      const auto &active = failed ? prev_active : d.active;
+      const auto &f_I = failed ? prev_force_I : d.force_I, &f_C = failed ? prev_force_C : d.force_C;
+      const auto &p_I = failed ? prev_I : d.pressure_I, &p_C = failed ? prev_C : d.pressure_C;
       for (unsigned int f = 0; f < n_if; ++f)
         {
           const std::string key = "interface." + interfaces.list()[f].name + ".";
           double            lof = loss_of_fit[f], first = first_open[f];
-          if (!fully_open[f] && d.valid)
+          if (!fully_open[f] && have)
             {
               double firstp = inf;
               for (const auto i : pairs.pairs_of(f))
-                if (d.active[i])
-                  firstp = std::min(firstp, opening_rpm(d.pressure_I[i], d.pressure_C[i]));
-              lof = total_force_zero_rpm(pairs.pairs_of(f), d.active, d.force_I, d.force_C);
+                if (active[i])
+                  firstp = std::min(firstp, opening_rpm(p_I[i], p_C[i]));
+              lof = total_force_zero_rpm(pairs.pairs_of(f), active, f_I, f_C);
               if (std::isnan(first))
                 first = firstp;
             }
+          else if (!fully_open[f])
+            lof = first = nan;
           summary << key << "pairs " << pairs.pairs_of(f).size() << '\n'
                   << key << "mean_pressure_first_speed_Pa " << mean_p0[f] << '\n'
                   << key << "max_pressure_first_speed_Pa " << max_p0[f] << '\n'
@@ -198,10 +206,10 @@ namespace rotorfit
             const double asymmetry = pairs.asymmetry(f, state.active);
             worst_asymmetry[f]     = std::max(worst_asymmetry[f], asymmetry);
             state.asymmetry        = std::max(state.asymmetry, asymmetry);
-            std::string status     = state.converged ? "ok" : state.reason;
+            std::string status = state.converged ? "ok" : state.reason;
             if (!(error <= contact.constraint_error_limit()))
               {
-                status = (state.converged ? "" : status + "; ") + "constraint error " +
+                status = (status == "ok" ? "" : status + "; ") + "constraint error " +
                          format(error) + " above " + format(contact.constraint_error_limit());
                 row_failed = true;
               }
@@ -349,10 +357,10 @@ namespace rotorfit
     catch (...)
     {
       // the speeds already done keep their summary
-      write_summary();
+      write_summary(true);
       throw;
     }
-    write_summary();
+    write_summary(false);
     log << "Static sweep: " << steps_done << " speeds, "
         << contact.n_factorizations() << " factorisations, "
         << contact.n_low_rank_updates() << " low-rank updates ("

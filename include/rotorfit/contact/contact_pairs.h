@@ -128,10 +128,12 @@ namespace rotorfit
     /**
      * Rotational symmetry of the closed set of interface @p i [-]: the
      * interface is cut into 4 axial rings and 8 angular sectors; in each
-     * ring, 1 - (least closed fraction of a sector) / (largest one). 0: every
-     * sector of every ring equally closed (or the ring all open); 1: a
-     * sector of a ring is open while another holds. The stationary-frame
-     * eigenproblem assumes 0.
+     * ring, 1 - (least closed fraction of a sector) / (largest one); the
+     * largest over the rings. 0: every sector of every ring equally closed
+     * (or the ring all open); 1: a sector of a ring holds while another is
+     * open. Relative on purpose: near the loss of fit the last pairs on one
+     * side hold a body at a point, the most lopsided joint there is. The
+     * stationary-frame eigenproblem assumes 0.
      */
     double
     asymmetry(const unsigned int i, const std::vector<bool> &closed) const;
