@@ -88,16 +88,8 @@ def report(name, got, expected, tol):
 
 
 def prepare(prm, out, replace=None):
-    """A copy of PRM writing to OUT, its input files made absolute."""
-    copy = run_test.set_output(prm, out)
-    base = os.path.dirname(os.path.abspath(prm))
-    replace = (replace or []) + [(r"(set Coefficient table\s*=\s*)(\S+)",
-                                  lambda m: m.group(1) + os.path.join(base, m.group(2)))]
-    text = open(copy).read()
-    for a, b in replace:
-        text = re.sub(a, b, text)
-    open(copy, "w").write(text)
-    return copy
+    """Arguments that run PRM (or its variant, see run_test.case) into OUT."""
+    return run_test.case(prm, out, replace)
 
 
 def check_timoshenko(exe, prm, out, tol, fine_h):
@@ -367,9 +359,9 @@ def check_mpi(exe, prm, out1, out2, rtol, atol):
 
 
 def check_failure(exe, prm, out, text):
-    copy = prepare(prm, out)
+    args = prepare(prm, out)
     env = dict(os.environ)
-    r = subprocess.run([exe, copy], env=env, capture_output=True, text=True)
+    r = subprocess.run([exe] + args, env=env, capture_output=True, text=True)
     print(r.stdout[-2000:], r.stderr[-2000:])
     ok = r.returncode == 2 and text in r.stdout
     print(f"exit code {r.returncode} (expected 2), message found: {text in r.stdout}")

@@ -17,6 +17,8 @@ tests/CMakeLists.txt, and so is each test's kind (its CTest label).
       a second run into a busy folder is refused; SIGTERM stops the first.
   run_test.py areas EXE PRM NAME=AREA,... RTOL
       --validate accepts PRM and reports these interface/bearing areas.
+  run_test.py parameters_doc EXE DOC
+      DOC equals the output of --print-parameters.
   run_test.py valid EXE PRM
       --validate accepts PRM.
   run_test.py ratio EXE PRM_A OUT_A PRM_B OUT_B KEY EXPECTED RTOL
@@ -38,10 +40,14 @@ def numdiff(a, b, rtol, atol):
     return r.returncode
 
 
-def run(exe, prm, np=1):
+def run(exe, prm, np=1, outdir=None):
+    """Run the case; PRM is a path or a list of arguments (see case());
+    OUTDIR, if given, goes to --output (the .prm is never edited)."""
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
                OMPI_MCA_rmaps_base_oversubscribe="1")
-    cmd = [exe, prm] if np == 1 else ["mpirun", "-np", str(np), exe, prm]
+    args = list(prm) if isinstance(prm, list) else ([] if outdir is None else
+                                                    ["--output", outdir]) + [prm]
+    cmd = [exe] + args if np == 1 else ["mpirun", "-np", str(np), exe] + args
     r = subprocess.run(cmd, env=env, capture_output=True, text=True)
     sys.stdout.write(r.stdout[-3000:])
     sys.stderr.write(r.stderr[-3000:])
@@ -49,26 +55,28 @@ def run(exe, prm, np=1):
         sys.exit(f"rotorfit exited with {r.returncode}")
 
 
-def set_output(prm, outdir):
-    """A copy of PRM in the working directory writing to OUTDIR, with the
-    geometry file made absolute."""
+def case(prm, outdir, replace=None):
+    """Arguments that run PRM into OUTDIR. Only a variant of PRM (REPLACE:
+    [(regex, substitute)], e.g. a finer mesh) is written as a copy, in the
+    working directory, its geometry file made absolute."""
+    if not replace:
+        return ["--output", outdir, prm]
     import re
     text = open(prm).read()
-    text = re.sub(r"(subsection Output.*?set Directory\s*=\s*)\S+", r"\g<1>" + outdir, text,
-                  flags=re.S)
     base = os.path.dirname(os.path.abspath(prm))
-    text = re.sub(r"(set Geometry file\s*=\s*)(\S+)",
-                  lambda m: m.group(1) + os.path.normpath(os.path.join(base, m.group(2))), text)
+    for a, b in replace + [(r"(set (?:Geometry file|Coefficient table)\s*=\s*)(\S+)",
+                            lambda m: m.group(1) + os.path.normpath(os.path.join(base, m.group(2))))]:
+        text = re.sub(a, b, text)
     copy = os.path.basename(outdir) + ".prm"
     open(copy, "w").write(text)
-    return copy
+    return ["--output", outdir, copy]
 
 
 def falls(exe, prm, outdir):
     """Contact fraction of every interface: 1 at the first speed, then
     strictly decreasing once below 1, and still > 0 (partial opening); the
     asymmetry measure and the loss-of-fit speed consistent (see below)."""
-    run(exe, prm)
+    run(exe, prm, outdir=outdir)
     import csv
     rows = list(csv.DictReader(open(os.path.join(outdir, "contact.csv"))))
     ok = True
@@ -98,7 +106,7 @@ def falls(exe, prm, outdir):
 
 
 def compare(exe, prm, outdir, expected, rtol, atol, np="1"):
-    run(exe, prm, int(np))
+    run(exe, prm, int(np), outdir)
     summary = dict(l.split(None, 1) for l in open(os.path.join(outdir, "summary.txt")) if l.strip())
     # each line: key value [rtol atol]; a line's own tolerances override
     failed = 0
@@ -129,8 +137,8 @@ def summary_value(outdir, key):
 
 def ratio(exe, prm_a, out_a, prm_b, out_b, keys, expected, rtol):
     """KEYS: comma-separated; each KEY(A)/KEY(B) must equal EXPECTED."""
-    run(exe, set_output(prm_a, out_a))
-    run(exe, set_output(prm_b, out_b))
+    run(exe, prm_a, outdir=out_a)
+    run(exe, prm_b, outdir=out_b)
     failed = 0
     for key in keys.split(","):
         a, b = summary_value(out_a, key), summary_value(out_b, key)
@@ -152,8 +160,8 @@ def softening(exe, prm_off, out_off, prm_on, out_on, lame_args, rtol, shift_rtol
     import lame
     args = [float(a) for a in lame_args.split(",")]
     exact = {False: lame.loss_of_fit_rpm(args, False), True: lame.loss_of_fit_rpm(args, True)}
-    run(exe, prm_off)
-    run(exe, prm_on)
+    run(exe, prm_off, outdir=out_off)
+    run(exe, prm_on, outdir=out_on)
     key = "interface.fit.loss_of_fit_rpm"
     got = {False: summary_value(out_off, key), True: summary_value(out_on, key)}
     ok = True
@@ -174,8 +182,8 @@ def same_columns(exe, prm_a, out_a, prm_b, out_b, columns, rtol, atol):
     """Run both cases; the COLUMNS (comma-separated) of their contact.csv must
     agree within RTOL/ATOL row by row (numdiff)."""
     import csv
-    run(exe, set_output(prm_a, out_a))
-    run(exe, set_output(prm_b, out_b))
+    run(exe, prm_a, outdir=out_a)
+    run(exe, prm_b, outdir=out_b)
     names = columns.split(",")
     files = []
     for out in (out_a, out_b):
@@ -206,7 +214,7 @@ def static_flags(exe, prm, outdir, text, limit=None):
     every row of campbell.csv at those speeds has
     static_converged = 0, summary.txt counts those speeds and the log warns."""
     import csv
-    run(exe, set_output(prm, outdir))
+    run(exe, prm, outdir=outdir)
     ok = True
     rows = list(csv.DictReader(open(os.path.join(outdir, "contact.csv"))))
     flagged = set()
@@ -245,17 +253,17 @@ def lock_and_signal(exe, prm, outdir):
     import csv
     import signal
     import time
-    copy = set_output(prm, outdir)
+    args = case(prm, outdir)
     log = os.path.join(outdir, "campbell.csv")
     if os.path.exists(log):
         os.remove(log)
-    a = subprocess.Popen([exe, copy], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    a = subprocess.Popen([exe] + args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.time() + 300
     while time.time() < deadline and a.poll() is None:
         if os.path.exists(log) and len(open(log).read().splitlines()) >= 2:
             break
         time.sleep(0.2)
-    b = subprocess.run([exe, copy], capture_output=True, text=True)
+    b = subprocess.run([exe] + args, capture_output=True, text=True)
     print("second run:", b.returncode, b.stderr.strip())
     ok = b.returncode == 1 and f"process id {a.pid})" in b.stderr
     a.send_signal(signal.SIGTERM)
@@ -294,6 +302,22 @@ def areas(exe, prm, expected, rtol):
     return 0 if ok else 1
 
 
+def parameters_doc(exe, doc):
+    """DOC (doc/parameters.txt) must be exactly what --print-parameters
+    prints: the parameter reference cannot drift from the code."""
+    import difflib
+    r = subprocess.run([exe, "--print-parameters"], capture_output=True, text=True)
+    want = open(doc).read()
+    if r.returncode == 0 and r.stdout == want:
+        print(f"{doc} matches --print-parameters: ok")
+        return 0
+    sys.stdout.writelines(difflib.unified_diff(want.splitlines(True), r.stdout.splitlines(True),
+                                               doc, "--print-parameters"))
+    print(f"{doc} is out of date: regenerate it with "
+          "'./build/rotorfit --print-parameters > doc/parameters.txt'")
+    return 1
+
+
 def error(exe, prm, expected):
     import tempfile
     r = subprocess.run([exe, "--validate", prm], capture_output=True, text=True)
@@ -313,6 +337,8 @@ if __name__ == "__main__":
         sys.exit(compare(*args))
     elif mode == "error":
         sys.exit(error(*args))
+    elif mode == "parameters_doc":
+        sys.exit(parameters_doc(*args))
     elif mode == "areas":
         sys.exit(areas(*args))
     elif mode == "valid":
@@ -331,8 +357,8 @@ if __name__ == "__main__":
         sys.exit(ratio(*args))
     elif mode == "same":
         exe, prm, out1, out2, rtol, atol = args
-        run(exe, set_output(prm, out1), 1)
-        run(exe, set_output(prm, out2), 2)
+        run(exe, prm, 1, out1)
+        run(exe, prm, 2, out2)
         sys.exit(numdiff(os.path.join(out1, "contact.csv"), os.path.join(out2, "contact.csv"),
                          rtol, atol))
     sys.exit(f"unknown mode {mode}")

@@ -31,12 +31,14 @@ namespace rotorfit
   namespace
   {
     const char *usage =
-      "Usage: rotorfit FILE.prm             run the case\n"
-      "       rotorfit --validate FILE.prm  parse and cross-check (mesh, pairs,\n"
-      "                                     supports), no solve\n"
-      "       rotorfit --print-parameters   every entry with default, pattern,\n"
-      "                                     units and meaning\n"
-      "       rotorfit --help | --version\n";
+      "Usage: rotorfit [--output DIR] FILE.prm     run the case\n"
+      "       rotorfit --validate [--output DIR] FILE.prm\n"
+      "                                           parse and cross-check (mesh, pairs,\n"
+      "                                           supports, output folder), no solve\n"
+      "       rotorfit --print-parameters         every entry with default, pattern,\n"
+      "                                           units and meaning\n"
+      "       rotorfit --help | --version\n"
+      "--output DIR: results into DIR instead of the file's Output/Directory\n";
 
     void
     declare_all(ParameterHandler               &prm,
@@ -215,16 +217,18 @@ namespace rotorfit
         return 0;
       }
 
-    bool        validate = false;
-    std::string file;
-    if (args[0] == "--validate" && args.size() == 2)
-      {
+    bool        validate = false, bad = false;
+    std::string file, output_override;
+    for (std::size_t i = 0; i < args.size() && !bad; ++i)
+      if (args[i] == "--validate")
         validate = true;
-        file     = args[1];
-      }
-    else if (args.size() == 1 && args[0].rfind("-", 0) != 0)
-      file = args[0];
-    else
+      else if (args[i] == "--output" && i + 1 < args.size() && output_override.empty())
+        output_override = args[++i];
+      else if (args[i].rfind("-", 0) != 0 && file.empty())
+        file = args[i];
+      else
+        bad = true;
+    if (bad || file.empty())
       {
         if (root)
           std::cerr << "rotorfit: error: unknown arguments.\n" << usage;
@@ -255,6 +259,14 @@ namespace rotorfit
       {
         ParameterHandler prm;
         parse_file(prm, file);
+        if (!output_override.empty())
+          {
+            // the command line wins over the file (tests and scripted
+            // studies never edit a .prm)
+            prm.enter_subsection("Output");
+            prm.set("Directory", output_override);
+            prm.leave_subsection();
+          }
         StaticProblem problem(comm, log);
         ModalProblem  modal(problem, log);
         const std::string dir =
