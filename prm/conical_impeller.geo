@@ -1,4 +1,4 @@
-// CI - conical impeller assembly (../shared/CASES.md): steel shaft D60 x 800 mm,
+// CI - conical impeller assembly (doc/conical_impeller.md): steel shaft D60 x 800 mm,
 // aluminium impeller hub (blades omitted), profile (r, z) in mm
 // (30,560) (150,560) (150,575) (45,660) (30,660) revolved about z.
 // Units: metres. Shaft and hub are fragmented so that the fit surface is

@@ -1,4 +1,4 @@
-// TS - test shaft assembly (../shared/CASES.md): steel shaft D20 x 260 mm,
+// TS - test shaft assembly (doc/test_shaft.md): steel shaft D20 x 260 mm,
 // aluminium sleeve D80/D20 x 40 mm centred at z = 130 mm, radial interference
 // set in the .prm. Units: metres. The sleeve and the shaft are fragmented so
 // that the fit surface is conforming; rotorfit duplicates its nodes per body.

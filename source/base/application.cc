@@ -172,7 +172,6 @@ namespace rotorfit
           interfaces =
             Utilities::split_string_list(first.get("Interfaces"), ',');
           bearings = Utilities::split_string_list(first.get("Bearings"), ',');
-          check_unique(bodies, file + ": Bodies");
           check_unique(interfaces, file + ": Interfaces");
           check_unique(bearings, file + ": Bearings");
           declare_all(prm, bodies, interfaces, bearings);

@@ -255,7 +255,10 @@ namespace rotorfit
           summary << key << ' ' << value << '\n';
         summary << "eigen.speeds " << speeds_done << '\n'
                 << "eigen.critical_speeds " << campbell.n_critical_speeds() << '\n'
-                << "eigen.worst_backward_error " << worst_backward_error << '\n';
+                << "eigen.worst_backward_error " << worst_backward_error << '\n'
+                << "eigen.retried_speeds " << retried_speeds << '\n'
+                << "eigen.workspace_retries "
+                << eigensolver.linear_solver().n_workspace_retries() << '\n';
       }
     log << "Eigenproblem: " << speeds_done << " speeds, "
         << eigensolver.linear_solver().n_factorizations() << " factorisations of Q(sigma), "

@@ -570,6 +570,7 @@ namespace rotorfit
         if (attempt == 0 && nev + more + 3 <= 2 * statics.dofs().n_dofs())
           {
             nev += more;
+            ++retried_speeds;
             log << "  eigen: retry " << m.str() << "; again with twice the Krylov space\n";
             continue;
           }

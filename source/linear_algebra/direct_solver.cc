@@ -103,6 +103,7 @@ namespace rotorfit
         MatMumpsGetInfog(factor, 1, &info);
         if (info != -8 && info != -9 && info != -11 && info != -14 && info != -15)
           break;
+        ++workspace_retries;
       }
     if (code != 0)
       throw std::runtime_error("PETSc/MUMPS failed in factorisation (KSPSetUp) (error " +

@@ -53,12 +53,9 @@ namespace rotorfit
   {
     bodies.clear();
     const auto names = Utilities::split_string_list(prm.get("Bodies"), ',');
-    std::set<std::string> seen;
+    check_unique(names, "Bodies");
     for (const auto &name : names)
       {
-        if (!seen.insert(name).second)
-          throw InputError("Bodies: the name '" + name +
-                           "' appears twice; give each body once.");
         prm.enter_subsection("Body " + name);
         Body b;
         b.name            = name;

@@ -148,7 +148,8 @@ namespace rotorfit
               << "static.influence_columns " << contact.n_influence_columns() << '\n'
               << "static.uzawa_iterations " << total_uzawa << '\n'
               << "static.speeds " << steps_done << '\n'
-              << "static.unconverged_speeds " << unconverged_speeds << '\n';
+              << "static.unconverged_speeds " << unconverged_speeds << '\n'
+              << "static.workspace_retries " << contact.linear_solver().n_workspace_retries() << '\n';
     };
 
     try

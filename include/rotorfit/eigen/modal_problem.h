@@ -163,6 +163,7 @@ namespace rotorfit
     std::vector<bool>                       frozen_active;
     std::vector<std::pair<double, std::string>> pvd_records;
     unsigned int speeds_done = 0;
+    unsigned int retried_speeds = 0; ///< speeds solved a second time (eigen retry)
     unsigned int max_nev     = 0; ///< eigenvalues asked at the most tied state
     double       worst_backward_error = 0;
     bool         announced_loose      = false;

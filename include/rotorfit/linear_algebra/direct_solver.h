@@ -74,6 +74,13 @@ namespace rotorfit
       return factorizations;
     }
 
+    /// Factorisations repeated with more MUMPS workspace (INFOG(1) -8, -9, ...).
+    unsigned int
+    n_workspace_retries() const
+    {
+      return workspace_retries;
+    }
+
     unsigned int
     n_solves() const
     {
@@ -97,6 +104,7 @@ namespace rotorfit
     Type                 type = Type::mumps_cholesky;
     KSP                  ksp  = nullptr;
     unsigned int         factorizations = 0;
+    unsigned int         workspace_retries = 0;
     mutable unsigned int solves         = 0;
   };
 } // namespace rotorfit
