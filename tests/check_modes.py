@@ -9,13 +9,13 @@ tolerance is an argument, stated in tests/CMakeLists.txt.
       h = FINE_H.
   check_modes.py rigid_rotor EXE PRM OUT TOL
       stiff short cylinder on two bearings at its end faces: translation,
-      forward/backward tilt and translation damping within TOL of THEORY 10d at
+      forward/backward tilt and translation damping within TOL of doc/theory.md 10d at
       every speed, forward rising and backward falling, 1X critical speeds.
   check_modes.py bearing_table EXE PRM OUT TOL
       rigid rotor on tabulated bearings: translation frequency and damping
       follow the interpolated k(Omega), c(Omega) within TOL.
   check_modes.py free_spin EXE PRM OUT TOL
-      spinning free cylinder: forward tilt at Omega Ip/Id (THEORY 10e-1).
+      spinning free cylinder: forward tilt at Omega Ip/Id (doc/theory.md 10e-1).
   check_modes.py pair_shift EXE PRM_A OUT_A PRM_B OUT_B RPM PAIR MIN MAX
       f_A - f_B of the PAIR-th whirl pair (backward and forward) at RPM lies in
       [MIN, MAX] Hz.
@@ -162,7 +162,7 @@ def check_rigid_rotor(exe, prm, out, tol):
             print(f"{rpm:g} r/min: tilt FW rises {rising}, BW falls {falling}")
             ok &= rising and falling
         previous = (float(tilt_fw["frequency_hz"]), float(tilt_bw["frequency_hz"]))
-    # 1X critical speeds (THEORY 10d): translation, backward tilt
+    # 1X critical speeds (doc/theory.md 10d): translation, backward tilt
     crit = rows(out, "critical_speeds.csv")
     kt = 2 * k * (L / 2) ** 2
     expected = [("translation", 30 / math.pi * math.sqrt(2 * k / m), None),
@@ -227,7 +227,7 @@ def check_free_spin(exe, prm, out, tol):
         expected = rpm / 60 * Ip / Id
         ok &= report(f"{rpm:g} r/min free forward tilt [Hz]", min(fw, key=lambda f: abs(f - expected)),
                      expected, float(tol))
-    # THEORY 10e-3/4 (self-check at the first speed > 0): virial identity of
+    # doc/theory.md 10e-3/4 (self-check at the first speed > 0): virial identity of
     # K_sigma on rigid tilt and twist (round-off up to the tiny support
     # reactions of an unsymmetric mesh) and the tilt cancellation against
     # Omega^2 K_theta (exact only on rotationally symmetric meshes)
@@ -259,7 +259,7 @@ def check_pair_shift(exe, prm_a, out_a, prm_b, out_b, rpm, pair, lo, hi):
 def check_stiffening(exe, prm_on, prm_off, prm_ksig, out, rpm):
     """Consistent stress stiffening (K_sigma with -Omega^2 K_theta) against
     none: whirl pairs 1 and 2 move by less than 0.05 Hz. K_sigma alone: pair 2
-    (tilt) rises by 4..10 Hz, and rigid twist becomes a line at 1X (P2)."""
+    (tilt) rises by 4..10 Hz, and rigid twist becomes a line at 1X (doc/theory.md P2)."""
     rpm = float(rpm)
     tables = {}
     for name, prm in (("on", prm_on), ("off", prm_off), ("ksig", prm_ksig)):

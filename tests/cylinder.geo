@@ -1,7 +1,7 @@
 // Verification geometry: one solid cylinder, radius R, length L, z in [0, L],
 // physical volume "rotor", end faces "end_left" (z = 0) and "end_right"
-// (z = L). Free-free bending against Timoshenko (THEORY 10c), rigid rotor on
-// two bearings and free spinning disk (THEORY 10d/10e).
+// (z = L). Free-free bending against Timoshenko (doc/theory.md 10c), rigid rotor on
+// two bearings and free spinning disk (doc/theory.md 10d/10e).
 SetFactory("OpenCASCADE");
 DefineConstant[ R = 0.02, L = 0.4, h = 8e-3 ];
 e = 1e-6;

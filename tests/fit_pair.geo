@@ -1,7 +1,7 @@
 // Verification geometry: solid shaft (radius R_s) inside a hub (R_s..R_h),
 // both of the same axial length T, z in [0, T]. With u_z = 0 on every end face
-// the 3D solution is the plane-strain Lame solution (THEORY 10a(i)); with free
-// faces and small T it approaches plane stress (THEORY 10a(ii), 10b).
+// the 3D solution is the plane-strain Lame solution (doc/theory.md 10a(i)); with free
+// faces and small T it approaches plane stress (doc/theory.md 10a(ii), 10b).
 SetFactory("OpenCASCADE");
 DefineConstant[ R_s = 0.010, R_h = 0.040, T = 0.010, h_fit = 3e-3, h_max = 6e-3 ];
 e = 1e-5;

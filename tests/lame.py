@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Closed-form shrink-fit references (THEORY 10a/10b): contact pressure at rest
+"""Closed-form shrink-fit references (doc/theory.md 10a/10b): contact pressure at rest
 and loss-of-fit speed of a solid shaft (radius b) in a hub (b..c), plane stress
 and plane strain; and the plane-strain loss of fit with spin softening (the
 centrifugal load on the deformed radius, rho Omega^2 (r + u)), from the exact

@@ -1,12 +1,12 @@
 #!/usr/bin/env python3
-"""Closed-form rotordynamics references (THEORY 10c/10d), pure Python (no numpy/scipy).
+"""Closed-form rotordynamics references (doc/theory.md 10c/10d), pure Python (no numpy/scipy).
 
 * free-free bending frequencies of a uniform solid circular cylinder, Timoshenko beam
-  theory with the Cowper shear coefficient (THEORY 10c), and the Euler-Bernoulli values;
-* rigid rotor on two identical isotropic bearings (THEORY 10d) and solid-cylinder inertia.
+  theory with the Cowper shear coefficient (doc/theory.md 10c), and the Euler-Bernoulli values;
+* rigid rotor on two identical isotropic bearings (doc/theory.md 10d) and solid-cylinder inertia.
 
 Usage: timoshenko.py E nu rho R L [n]   -> first n (default 2) bending frequencies in Hz
-       timoshenko.py --selftest         -> reproduce the THEORY 10c example (steel, R=50 mm, L=1 m)
+       timoshenko.py --selftest         -> reproduce the doc/theory.md 10c example (steel, R=50 mm, L=1 m)
 """
 import math
 import sys
