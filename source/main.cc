@@ -1,4 +1,4 @@
-#include <rotorfit/base/application.h>
+#include <rotorfit/app/application.h>
 
 #include <deal.II/base/mpi.h>
 

@@ -1,15 +1,10 @@
-#include <rotorfit/base/application.h>
+#include <rotorfit/app/application.h>
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/base/log.h>
 #include <rotorfit/base/parameter_file.h>
-#include <rotorfit/base/resources.h>
 #include <rotorfit/base/run_control.h>
 #include <rotorfit/base/version.h>
-#include <rotorfit/bearing/bearings.h>
-#include <rotorfit/contact/contact_pairs.h>
-#include <rotorfit/eigen/modal_problem.h>
-#include <rotorfit/material/bodies.h>
-#include <rotorfit/statics/static_problem.h>
+#include <rotorfit/problem/rotor_problem.h>
 
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
@@ -21,7 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <map>
+#include <memory>
 #include <sstream>
 
 namespace rotorfit
@@ -35,23 +30,10 @@ namespace rotorfit
       "       rotorfit --validate [--output DIR] FILE.prm\n"
       "                                           parse and cross-check (mesh, pairs,\n"
       "                                           supports, output folder), no solve\n"
-      "       rotorfit --print-parameters         every entry with default, pattern,\n"
-      "                                           units and meaning\n"
+      "       rotorfit --print-parameters [json]  every entry with default, units and\n"
+      "                                           meaning (json: with its pattern)\n"
       "       rotorfit --help | --version\n"
       "--output DIR: results into DIR instead of the file's Output/Directory\n";
-
-    void
-    declare_all(ParameterHandler               &prm,
-                const std::vector<std::string> &body_names,
-                const std::vector<std::string> &interface_names,
-                const std::vector<std::string> &bearing_names)
-    {
-      StaticProblem::declare_parameters(prm);
-      ModalProblem::declare_parameters(prm);
-      Bodies::declare_parameters(prm, body_names);
-      ContactInterfaces::declare_parameters(prm, interface_names);
-      Bearings::declare_parameters(prm, bearing_names);
-    }
 
     /// deal.II's message without file/line/stack decoration.
     std::string
@@ -65,80 +47,6 @@ namespace rotorfit
       while (words >> word)
         m += (m.empty() ? "" : " ") + word;
       return m;
-    }
-
-    /**
-     * One physical surface carrying two features counts it twice: two
-     * interfaces on one surface halve the contact pressure, two bearings on
-     * one face double the stiffness. Refused; an axial roller on a fit
-     * surface is legitimate for verification set-ups and only warned.
-     */
-    void
-    check_surface_use(const StaticProblem &problem, const ModalProblem &modal, Log &log)
-    {
-      std::map<std::string, std::string> owner; // surface -> first feature
-      const auto claim = [&](const std::string &surface, const std::string &feature,
-                             const std::string &fix) {
-        const auto [it, inserted] = owner.emplace(surface, feature);
-        if (!inserted && it->second != feature)
-          throw InputError("physical surface '" + surface + "' is used by " + it->second +
-                           " and by " + feature + "; " + fix);
-      };
-      for (const auto &f : problem.interface_list().list())
-        {
-          const std::string feature = "Interface " + f.name;
-          claim(f.shaft_surface, feature,
-                "each fit surface belongs to one interface (a second one would "
-                "halve its contact pressure).");
-          if (f.hub_surface != f.shaft_surface)
-            claim(f.hub_surface, feature,
-                  "each fit surface belongs to one interface (a second one would "
-                  "halve its contact pressure).");
-        }
-      for (const auto &b : modal.bearing_list().list())
-        claim(b.surface, "Bearing " + b.name,
-              "a bearing acts on a shaft surface of its own (a fit surface is "
-              "inside the assembly; two bearings on one face double its "
-              "stiffness: add their coefficients into one bearing).");
-      for (const auto &r : problem.roller_surface_list())
-        {
-          const auto it = owner.find(r);
-          if (it != owner.end() && it->second.rfind("Interface", 0) == 0)
-            log << "Warning: Supports/Axial roller surfaces: '" << r
-                << "' is a fit surface of " << it->second
-                << "; its nodes are held axially.\n";
-        }
-    }
-
-    /// Memory of the run's largest phase against the machine's, after the
-    /// mesh is known (before any matrix is assembled).
-    void
-    check_resources(const StaticProblem &problem, const ModalProblem &modal, Log &log)
-    {
-      using namespace resources;
-      const double n          = problem.dofs().n_dofs();
-      const double statics    = factorization_bytes(n, true) + 3 * sparse_matrix_bytes(n);
-      double       eigen      = 0;
-      if (modal.enabled())
-        eigen = factorization_bytes(n, false) + 12 * sparse_matrix_bytes(n) +
-                // the Arnoldi vectors are replicated on every rank
-                Utilities::MPI::n_mpi_processes(problem.mpi_communicator()) *
-                  modal.state_vectors_needed(n) * 2 * n * 8.;
-      const double peak = std::max(statics, eigen);
-      // rank 0 decides for all (ranks may see other environments or nodes)
-      const double limit = Utilities::MPI::broadcast(problem.mpi_communicator(),
-                                                     physical_memory_bytes(), 0);
-      log << "Memory estimate: " << gigabytes(peak) << " at the peak ("
-          << (eigen > statics ? "eigenproblem" : "static solve") << "), machine "
-          << gigabytes(limit) << '\n';
-      if (peak > 0.9 * limit)
-        throw InputError(
-          "the model (" + std::to_string(static_cast<long long>(n)) +
-          " DOFs) needs about " + gigabytes(peak) + " at its peak (" +
-          (eigen > statics ? "the eigenproblem's LU and Krylov space" :
-                             "the static factorisation") +
-          ") but this run may use " + gigabytes(limit) + " (the machine's memory, or ROTORFIT_MEMORY_GB)" +
-          "; coarsen the mesh, or lower Eigenproblem/Number of modes or Krylov size factor.");
     }
 
     /// Two passes: the body and interface names decide which subsections
@@ -166,7 +74,7 @@ namespace rotorfit
       try
         {
           ParameterHandler first;
-          declare_all(first, {}, {}, {});
+          RotorProblem::declare_parameters(first, {}, {}, {});
           read(first, true);
           bodies = Utilities::split_string_list(first.get("Bodies"), ',');
           interfaces =
@@ -174,7 +82,7 @@ namespace rotorfit
           bearings = Utilities::split_string_list(first.get("Bearings"), ',');
           check_unique(interfaces, file + ": Interfaces");
           check_unique(bearings, file + ": Bearings");
-          declare_all(prm, bodies, interfaces, bearings);
+          RotorProblem::declare_parameters(prm, bodies, interfaces, bearings);
           read(prm, false);
         }
       catch (const ExceptionBase &e)
@@ -184,219 +92,189 @@ namespace rotorfit
       if (bodies.empty())
         throw InputError(file + ": 'Bodies' is empty; name at least one body.");
     }
+
+    /// --help, --version, --print-parameters: the exit code, or -1 when
+    /// @p args ask for a case to be run.
+    int
+    information(const std::vector<std::string> &args, const bool root)
+    {
+      if (args.empty() || args[0] == "--help" || args[0] == "-h")
+        {
+          if (root)
+            std::cout << usage;
+          return args.empty() ? exit_code::input_error : exit_code::success;
+        }
+      if (args[0] == "--version")
+        {
+          if (root)
+            std::cout << "rotorfit " << ROTORFIT_VERSION << " (git " << ROTORFIT_GIT_HASH << ", "
+                      << ROTORFIT_BUILD_TYPE << "), deal.II " << DEAL_II_PACKAGE_VERSION << '\n';
+          return exit_code::success;
+        }
+      if (args[0] != "--print-parameters")
+        return -1;
+      // text: a .prm with every default; json: with the patterns, for the
+      // generated reference doc/parameters.md
+      const std::string format = args.size() > 1 ? args[1] : "text";
+      if (args.size() > 2 || (format != "text" && format != "json"))
+        {
+          if (root)
+            std::cerr << "rotorfit: error: --print-parameters [text|json]\n";
+          return exit_code::input_error;
+        }
+      ParameterHandler prm;
+      RotorProblem::declare_parameters(prm, {"<name>"}, {"<name>"}, {"<name>"});
+      if (root)
+        prm.print_parameters(std::cout,
+                             format == "json" ? ParameterHandler::JSON : ParameterHandler::Text);
+      return exit_code::success;
+    }
+
+    /// What the command line asks of a case.
+    struct CaseOptions
+    {
+      std::string file, output_override;
+      bool        validate = false;
+    };
+
+    /// False if @p args are not [--validate] [--output DIR] FILE.
+    bool
+    parse_case_options(const std::vector<std::string> &args, CaseOptions &options)
+    {
+      for (std::size_t i = 0; i < args.size(); ++i)
+        if (args[i] == "--validate")
+          options.validate = true;
+        else if (args[i] == "--output" && i + 1 < args.size() && options.output_override.empty())
+          options.output_override = args[++i];
+        else if (args[i].rfind("-", 0) != 0 && options.file.empty())
+          options.file = args[i];
+        else
+          return false;
+      return !options.file.empty();
+    }
+
+    /// The speed sweep of a set-up case: the exit code, and the run's status
+    /// in summary.txt (a refusal during the sweep is left to the caller).
+    int
+    run_sweep(RotorProblem &problem, const MPI_Comm comm, Log &log)
+    {
+      try
+        {
+          run_control::stop_if_interrupted(comm, "before the first speed");
+          problem.run();
+        }
+      catch (const InputError &)
+        {
+          throw;
+        }
+      catch (const Interrupted &e)
+        {
+          const std::string where = problem.progress();
+          log << "rotorfit: " << e.what() << "; stopped " << where
+              << ". The finished speeds are in " << problem.output_directory() << ".\n";
+          problem.finish("interrupted", exit_code::interrupted, where, e.what());
+          return exit_code::interrupted;
+        }
+      catch (const std::exception &e)
+        {
+          const std::string where = problem.progress();
+          log << "rotorfit: failure during the solve (" << where << "): " << e.what()
+              << "\nThe speeds already done are in " << problem.output_directory() << ".\n";
+          problem.finish("failed", exit_code::solver, where, e.what());
+          return exit_code::solver;
+        }
+      problem.finish("completed", exit_code::success);
+      return exit_code::success;
+    }
+
+    /// Validate or run one case; every way out is an exit code, and once the
+    /// output folder is ours, a status in its summary.txt.
+    int
+    run_case(const CaseOptions &options, const MPI_Comm comm, Log &log)
+    {
+      const bool         root     = Utilities::MPI::this_mpi_process(comm) == 0;
+      const std::string &file     = options.file;
+      const bool         validate = options.validate;
+
+      run_control::install_signal_handlers();
+      // once the output folder is ours, every way out of the run leaves its
+      // status in summary.txt (RotorProblem::finish)
+      std::unique_ptr<RotorProblem> problem;
+      bool                          output_ready = false;
+      const auto                    stop = [&](const std::string &status, const int code,
+                            const std::string &where, const std::string &message) {
+        if (output_ready)
+          problem->finish(status, code, where, message);
+        return code;
+      };
+      try
+        {
+          ParameterHandler prm;
+          parse_file(prm, file);
+          const std::string dir = std::filesystem::path(file).parent_path().string();
+          problem = std::make_unique<RotorProblem>(comm, log);
+          problem->parse_parameters(prm, dir.empty() ? "." : dir, options.output_override);
+          problem->check_output();
+          if (!validate)
+            {
+              problem->prepare_output(prm);
+              output_ready = true;
+            }
+          log << "rotorfit " << ROTORFIT_VERSION << " (git " << ROTORFIT_GIT_HASH << ", "
+              << ROTORFIT_BUILD_TYPE << "), deal.II " << DEAL_II_PACKAGE_VERSION << ", "
+              << Utilities::MPI::n_mpi_processes(comm) << " MPI rank(s)\n"
+              << "Case: " << file << '\n';
+          problem->setup();
+          if (validate)
+            {
+              log << file << ": valid.\n";
+              return exit_code::success;
+            }
+          return run_sweep(*problem, comm, log);
+        }
+      catch (const InputError &e)
+        {
+          if (root)
+            std::cerr << "rotorfit: error: " << e.what() << '\n';
+          return stop("refused", exit_code::input_error, "", e.what());
+        }
+      catch (const Interrupted &e)
+        {
+          if (root)
+            std::cerr << "rotorfit: " << e.what() << '\n';
+          return stop("interrupted", exit_code::interrupted, "set-up", e.what());
+        }
+      catch (const ExceptionBase &e)
+        {
+          if (root)
+            std::cerr << "rotorfit: error: " << message_of(e) << '\n';
+          return stop("failed", exit_code::solver, "set-up", message_of(e));
+        }
+      catch (const std::exception &e)
+        {
+          if (root)
+            std::cerr << "rotorfit: error: " << e.what() << '\n';
+          return stop("failed", exit_code::solver, "set-up", e.what());
+        }
+    }
   } // namespace
 
   int
   run_application(int argc, char **argv)
   {
-    const MPI_Comm comm = MPI_COMM_WORLD;
-    const bool     root = Utilities::MPI::this_mpi_process(comm) == 0;
-    std::vector<std::string> args(argv + 1, argv + argc);
-
-    if (args.empty() || args[0] == "--help" || args[0] == "-h")
-      {
-        if (root)
-          std::cout << usage;
-        return args.empty() ? 1 : 0;
-      }
-    if (args[0] == "--version")
-      {
-        if (root)
-          std::cout << "rotorfit " << ROTORFIT_VERSION << " (git "
-                    << ROTORFIT_GIT_HASH << ", " << ROTORFIT_BUILD_TYPE
-                    << "), deal.II " << DEAL_II_PACKAGE_VERSION << '\n';
-        return 0;
-      }
-    if (args[0] == "--print-parameters")
-      {
-        ParameterHandler prm;
-        declare_all(prm, {"<name>"}, {"<name>"}, {"<name>"});
-        if (root)
-          prm.print_parameters(std::cout, ParameterHandler::Text);
-        return 0;
-      }
-
-    bool        validate = false, bad = false;
-    std::string file, output_override;
-    for (std::size_t i = 0; i < args.size() && !bad; ++i)
-      if (args[i] == "--validate")
-        validate = true;
-      else if (args[i] == "--output" && i + 1 < args.size() && output_override.empty())
-        output_override = args[++i];
-      else if (args[i].rfind("-", 0) != 0 && file.empty())
-        file = args[i];
-      else
-        bad = true;
-    if (bad || file.empty())
+    const MPI_Comm                 comm = MPI_COMM_WORLD;
+    const bool                     root = Utilities::MPI::this_mpi_process(comm) == 0;
+    const std::vector<std::string> args(argv + 1, argv + argc);
+    if (const int code = information(args, root); code >= 0)
+      return code;
+    CaseOptions options;
+    if (!parse_case_options(args, options))
       {
         if (root)
           std::cerr << "rotorfit: error: unknown arguments.\n" << usage;
-        return 1;
-      }
-
-    Log log(root);
-    run_control::install_signal_handlers();
-    // set once the output folder is ours: from then on every way out of the
-    // run leaves its status in summary.txt
-    std::string output_dir;
-    const auto  write_status = [&](const std::string &status, const int code,
-                                  const std::string &where, const std::string &message) {
-      if (!root || output_dir.empty())
-        return;
-      std::ofstream summary(output_dir + "/summary.txt", std::ios::app);
-      summary << "run.status " << status << '\n' << "run.exit_code " << code << '\n';
-      if (!where.empty())
-        summary << "run.stopped_at " << where << '\n';
-      if (!message.empty())
-        {
-          std::string line = message; // one line: summary.txt is key value
-          std::replace(line.begin(), line.end(), '\n', ' ');
-          summary << "run.message " << line << '\n';
-        }
-    };
-    try
-      {
-        ParameterHandler prm;
-        parse_file(prm, file);
-        if (!output_override.empty())
-          {
-            // the command line wins over the file (tests and scripted
-            // studies never edit a .prm)
-            prm.enter_subsection("Output");
-            prm.set("Directory", output_override);
-            prm.leave_subsection();
-          }
-        StaticProblem problem(comm, log);
-        ModalProblem  modal(problem, log);
-        const std::string dir =
-          std::filesystem::path(file).parent_path().string();
-        problem.parse_parameters(prm, dir.empty() ? "." : dir);
-        modal.parse_parameters(prm, dir.empty() ? "." : dir);
-        check_surface_use(problem, modal, log);
-        {
-          std::string error;
-          if (root)
-            error = run_control::check_writable(problem.output_directory());
-          error = Utilities::MPI::broadcast(comm, error, 0);
-          if (!error.empty())
-            throw InputError(error);
-        }
-        if (!validate)
-          {
-            std::string error;
-            if (root)
-              try
-                {
-                  std::error_code ec;
-                  std::filesystem::create_directories(problem.output_directory(), ec);
-                  if (ec)
-                    throw InputError("Output/Directory = '" + problem.output_directory() +
-                                     "' cannot be created: " + ec.message() + ".");
-                  run_control::lock_output_directory(problem.output_directory());
-                  // results of an earlier run into this folder must not be
-                  // mistaken for this run's
-                  for (const char *f : {"summary.txt", "contact.csv", "pair_openings.csv",
-                                        "campbell.csv", "critical_speeds.csv",
-                                        "rigid_modes.csv", "campbell.png", "plot.log"})
-                    std::filesystem::remove(problem.output_directory() + "/" + f, ec);
-                  std::ofstream out(problem.output_directory() + "/parameters.prm");
-                  prm.print_parameters(out, ParameterHandler::ShortPRM);
-                  std::ofstream summary(problem.output_directory() + "/summary.txt");
-                  if (!out || !summary)
-                    throw InputError("Output/Directory = '" + problem.output_directory() +
-                                     "': files cannot be written there.");
-                }
-              catch (const InputError &e)
-                {
-                  error = e.what();
-                }
-            error = Utilities::MPI::broadcast(comm, error, 0);
-            if (!error.empty())
-              throw InputError(error);
-            output_dir = problem.output_directory();
-            log.open_file(output_dir + "/log.txt");
-          }
-        log << "rotorfit " << ROTORFIT_VERSION << " (git " << ROTORFIT_GIT_HASH
-            << ", " << ROTORFIT_BUILD_TYPE << "), deal.II "
-            << DEAL_II_PACKAGE_VERSION << ", "
-            << Utilities::MPI::n_mpi_processes(comm) << " MPI rank(s)\n"
-            << "Case: " << file << '\n';
-        problem.setup();
-        modal.setup();
-        check_resources(problem, modal, log);
-        if (validate)
-          {
-            log << file << ": valid.\n";
-            return exit_code::success;
-          }
-        try
-          {
-            run_control::stop_if_interrupted(comm, "before the first speed");
-            StaticProblem::SpeedCallback eigen_step;
-            if (modal.enabled())
-              eigen_step = [&](const unsigned int          step,
-                               const double                rpm,
-                               const ContactSolver::State &state) {
-                modal.solve_speed(step, rpm, state);
-              };
-            problem.run(eigen_step);
-            modal.finish();
-          }
-        catch (const InputError &)
-          {
-            throw;
-          }
-        catch (const Interrupted &e)
-          {
-            const std::string where = problem.progress();
-            log << "rotorfit: " << e.what() << "; stopped " << where
-                << ". The finished speeds are in " << output_dir << ".\n";
-            write_status("interrupted", exit_code::interrupted, where, e.what());
-            modal.finish();
-            return exit_code::interrupted;
-          }
-        catch (const std::exception &e)
-          {
-            const std::string where = problem.progress();
-            log << "rotorfit: failure during the solve (" << where << "): " << e.what()
-                << "\nThe speeds already done are in " << output_dir << ".\n";
-            write_status("failed", exit_code::solver, where, e.what());
-            modal.finish();
-            return exit_code::solver;
-          }
-        std::ostringstream timing;
-        problem.print_timing(timing);
-        log << timing.str();
-        write_status("completed", exit_code::success, "", "");
-      }
-    catch (const InputError &e)
-      {
-        if (root)
-          std::cerr << "rotorfit: error: " << e.what() << '\n';
-        write_status("refused", exit_code::input_error, "", e.what());
         return exit_code::input_error;
       }
-    catch (const Interrupted &e)
-      {
-        if (root)
-          std::cerr << "rotorfit: " << e.what() << '\n';
-        write_status("interrupted", exit_code::interrupted, "set-up", e.what());
-        return exit_code::interrupted;
-      }
-    catch (const ExceptionBase &e)
-      {
-        if (root)
-          std::cerr << "rotorfit: error: " << message_of(e) << '\n';
-        write_status("failed", exit_code::solver, "set-up", message_of(e));
-        return exit_code::solver;
-      }
-    catch (const std::exception &e)
-      {
-        if (root)
-          std::cerr << "rotorfit: error: " << e.what() << '\n';
-        write_status("failed", exit_code::solver, "set-up", e.what());
-        return exit_code::solver;
-      }
-    return exit_code::success;
+    Log log(root);
+    return run_case(options, comm, log);
   }
 } // namespace rotorfit

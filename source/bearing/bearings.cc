@@ -99,10 +99,11 @@ namespace rotorfit
                           "Physical surface (a shaft end face) whose "
                           "area-averaged lateral displacement the bearing "
                           "holds. Mandatory.");
+        // direct terms (xx, yy) >= 0, cross terms any sign
         for (unsigned int i = 0; i < 8; ++i)
           prm.declare_entry(names[i],
                             "0",
-                            Patterns::Double(),
+                            names[i][1] == names[i][2] ? Patterns::Double(0) : Patterns::Double(),
                             i < 4 ? "Stiffness [N/m] (xx, yy >= 0; cross terms any sign)." :
                                     "Damping [N s/m] (xx, yy >= 0; cross terms any sign).");
         prm.declare_entry("Coefficient table",
@@ -133,7 +134,6 @@ namespace rotorfit
         double v[8];
         for (unsigned int i = 0; i < 8; ++i)
           v[i] = prm.get_double(names[i]);
-        check_coefficients("Bearing " + name, v);
         std::copy(v, v + 4, b.k.begin());
         std::copy(v + 4, v + 8, b.c.begin());
         b.table_file = prm.get("Coefficient table");

@@ -1,5 +1,6 @@
 #include <rotorfit/base/dof_utilities.h>
 #include <rotorfit/base/input_error.h>
+#include <rotorfit/base/patterns.h>
 #include <rotorfit/contact/contact_pairs.h>
 #include <rotorfit/mesh/assembly_mesh.h>
 
@@ -51,7 +52,7 @@ namespace rotorfit
                           "fragmented. Mandatory.");
         prm.declare_entry("Radial interference",
                           "",
-                          Patterns::Anything(),
+                          patterns::Mandatory(patterns::Positive()),
                           "Interference on the radius (half the diametral "
                           "interference) [m], > 0. Both bodies are meshed at "
                           "the same nominal radius (numerical interference). "
@@ -78,21 +79,7 @@ namespace rotorfit
             throw InputError("Interface " + name + "/" + entry +
                              " is not set; every interface needs Shaft "
                              "surface, Hub surface and Radial interference.");
-        const std::string value = prm.get("Radial interference");
-        try
-          {
-            d.interference = Utilities::string_to_double(value);
-          }
-        catch (...)
-          {
-            throw InputError("Interface " + name + "/Radial interference = '" +
-                             value + "' is not a number; give it in metres.");
-          }
-        if (!(d.interference > 0))
-          throw InputError("Interface " + name + "/Radial interference = " +
-                           value +
-                           " m must be > 0 (a clearance fit has no contact "
-                           "at rest); give the interference on the radius.");
+        d.interference = prm.get_double("Radial interference");
         prm.leave_subsection();
         interfaces.push_back(d);
       }
@@ -113,6 +100,73 @@ namespace rotorfit
     }
   } // namespace
 
+  struct ContactPairs::InterfaceSides
+  {
+    /// support points of each side (0 shaft, 1 hub), keyed by their x DoF
+    std::map<types::global_dof_index, SidePoint> side[2];
+    /// shaft-side faces: their x DoFs, cell and face number
+    std::vector<std::vector<types::global_dof_index>>         shaft_faces;
+    std::vector<typename DoFHandler<3>::active_cell_iterator> face_cells;
+    std::vector<unsigned int>                                 face_numbers;
+  };
+
+  namespace
+  {
+    /// The faces of both sides of an interface; a face belongs to the shaft
+    /// side if its cell lies inside it (smaller radius).
+    template <typename Sides>
+    void
+    collect_sides(const AssemblyMesh          &mesh,
+                  const DoFHandler<3>         &dof_handler,
+                  const std::vector<Point<3>> &support_points,
+                  const InterfaceDefinition   &def,
+                  Sides                       &sides)
+    {
+      const auto &fe = dof_handler.get_fe();
+      std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        for (const unsigned int face_no : cell->face_indices())
+          if (cell->face(face_no)->at_boundary())
+            for (unsigned int s = 0; s < 2; ++s)
+              {
+                const std::string &surface = (s == 0 ? def.shaft_surface : def.hub_surface);
+                if (!mesh.face_on_surface(surface, cell, face_no))
+                  continue;
+                const double r_face = radius(cell->face(face_no)->center());
+                const double r_cell = radius(cell->center());
+                if ((s == 0) != (r_cell < r_face))
+                  continue;
+                cell->get_dof_indices(dofs);
+                std::vector<types::global_dof_index> face_x_dofs;
+                for (const unsigned int i : cell_dofs_on_face(cell, face_no))
+                  {
+                    const auto [c, k] = fe.system_to_component_index(i);
+                    if (c != 0)
+                      continue;
+                    sides.side[s][dofs[i]] =
+                      SidePoint{support_points[dofs[i]],
+                                {{dofs[i],
+                                  dofs[fe.component_to_system_index(1, k)],
+                                  dofs[fe.component_to_system_index(2, k)]}}};
+                    face_x_dofs.push_back(dofs[i]);
+                  }
+                if (s == 0)
+                  {
+                    sides.shaft_faces.push_back(face_x_dofs);
+                    sides.face_cells.push_back(cell);
+                    sides.face_numbers.push_back(face_no);
+                  }
+              }
+      for (unsigned int s = 0; s < 2; ++s)
+        if (sides.side[s].empty())
+          throw InputError("Interface " + def.name + ": the physical surface '" +
+                           (s == 0 ? def.shaft_surface : def.hub_surface) +
+                           "' has no faces on the " + (s == 0 ? "shaft" : "hub") + " side (" +
+                           (s == 0 ? "body inside the surface" : "body outside the surface") +
+                           "); the bodies do not touch there. Check the surface names.");
+    }
+  } // namespace
+
   void
   ContactPairs::build(const AssemblyMesh                     &mesh,
                       const DoFHandler<3>                    &dof_handler,
@@ -122,175 +176,134 @@ namespace rotorfit
     pair_list.clear();
     surfaces.clear();
     surfaces.resize(interfaces.size());
-    const auto &fe = dof_handler.get_fe();
-
     for (unsigned int f = 0; f < interfaces.size(); ++f)
       {
         const auto &def = interfaces[f];
-        mesh.check_surface_exists(def.shaft_surface,
-                                  "Interface " + def.name + "/Shaft surface");
-        mesh.check_surface_exists(def.hub_surface,
-                                  "Interface " + def.name + "/Hub surface");
-
-        // support points of each side, keyed by their x DoF; a face belongs
-        // to the shaft side if its cell lies inside it (smaller radius)
-        std::map<types::global_dof_index, SidePoint> side[2];
-        std::vector<std::vector<types::global_dof_index>> shaft_faces;
-        std::vector<typename DoFHandler<3>::active_cell_iterator> face_cells;
-        std::vector<unsigned int>                                 face_numbers;
-        std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
-        for (const auto &cell : dof_handler.active_cell_iterators())
-          for (const unsigned int face_no : cell->face_indices())
-            if (cell->face(face_no)->at_boundary())
-              for (unsigned int s = 0; s < 2; ++s)
-                {
-                  const std::string &surface =
-                    (s == 0 ? def.shaft_surface : def.hub_surface);
-                  if (!mesh.face_on_surface(surface, cell, face_no))
-                    continue;
-                  const double r_face = radius(cell->face(face_no)->center());
-                  const double r_cell = radius(cell->center());
-                  if ((s == 0) != (r_cell < r_face))
-                    continue;
-                  cell->get_dof_indices(dofs);
-                  std::vector<types::global_dof_index> face_x_dofs;
-                  for (const unsigned int i : cell_dofs_on_face(cell, face_no))
-                    {
-                      const auto [c, k] = fe.system_to_component_index(i);
-                      if (c != 0)
-                        continue;
-                      side[s][dofs[i]] =
-                        SidePoint{support_points[dofs[i]],
-                                  {{dofs[i],
-                                    dofs[fe.component_to_system_index(1, k)],
-                                    dofs[fe.component_to_system_index(2, k)]}}};
-                      face_x_dofs.push_back(dofs[i]);
-                    }
-                  if (s == 0)
-                    {
-                      shaft_faces.push_back(face_x_dofs);
-                      face_cells.push_back(cell);
-                      face_numbers.push_back(face_no);
-                    }
-                }
-        for (unsigned int s = 0; s < 2; ++s)
-          if (side[s].empty())
-            throw InputError(
-              "Interface " + def.name + ": the physical surface '" +
-              (s == 0 ? def.shaft_surface : def.hub_surface) +
-              "' has no faces on the " + (s == 0 ? "shaft" : "hub") +
-              " side (" +
-              (s == 0 ? "body inside the surface" : "body outside the surface") +
-              "); the bodies do not touch there. Check the surface names.");
-
-        // pair by coordinates: sort the hub side by x and search a window
-        std::vector<SidePoint> hub;
-        for (const auto &[dof, p] : side[1])
-          hub.push_back(p);
-        std::sort(hub.begin(), hub.end(), [](const SidePoint &a, const SidePoint &b) {
-          return a.x[0] < b.x[0];
-        });
-        std::vector<bool>                              hub_used(hub.size(), false);
-        std::map<types::global_dof_index, unsigned int> pair_of_shaft_dof;
-        unsigned int                                   n_unmatched = 0;
-        Point<3>                                       first_unmatched;
-        for (const auto &[dof, p] : side[0])
-          {
-            const double tol = mesh.matching_tolerance() * std::max(radius(p.x), 1e-12);
-            auto lo = std::lower_bound(hub.begin(), hub.end(), p.x[0] - tol,
-                                       [](const SidePoint &a, const double v) {
-                                         return a.x[0] < v;
-                                       });
-            int match = -1;
-            for (auto it = lo; it != hub.end() && it->x[0] <= p.x[0] + tol; ++it)
-              if (it->x.distance(p.x) <= tol)
-                {
-                  match = it - hub.begin();
-                  break;
-                }
-            if (match < 0)
-              {
-                if (n_unmatched++ == 0)
-                  first_unmatched = p.x;
-                continue;
-              }
-            hub_used[match] = true;
-            ContactPair pair;
-            pair.interface    = f;
-            pair.shaft_dofs   = p.dofs;
-            pair.hub_dofs     = hub[match].dofs;
-            pair.position     = p.x;
-            const double r    = radius(p.x);
-            pair.normal       = Tensor<1, 3>({p.x[0] / r, p.x[1] / r, 0.});
-            pair.interference = def.interference;
-            pair_of_shaft_dof[dof] = surfaces[f].pairs.size();
-            surfaces[f].pairs.push_back(pair_list.size());
-            pair_list.push_back(pair);
-          }
-        for (unsigned int i = 0; i < hub.size(); ++i)
-          if (!hub_used[i] && n_unmatched++ == 0)
-            first_unmatched = hub[i].x;
-        if (n_unmatched > 0)
-          {
-            std::ostringstream s;
-            s << "Interface " << def.name << ": " << n_unmatched << " of "
-              << side[0].size() + side[1].size()
-              << " support points on '" << def.shaft_surface << "'/'"
-              << def.hub_surface
-              << "' have no coincident partner on the other body (first at ("
-              << first_unmatched
-              << ") m). Both bodies must carry coincident nodes on the fit: "
-                 "mesh them together (gmsh BooleanFragments) or raise "
-                 "Geometry/Interface matching tolerance.";
-            throw InputError(s.str());
-          }
-
-        // consistent surface mass matrix on the shaft side, pair numbering
-        Surface &surface = surfaces[f];
-        const unsigned int n = surface.pairs.size();
-        DynamicSparsityPattern dsp(n, n);
-        for (const auto &face : shaft_faces)
-          for (const auto i : face)
-            for (const auto j : face)
-              dsp.add(pair_of_shaft_dof[i], pair_of_shaft_dof[j]);
-        surface.pattern.copy_from(dsp);
-        surface.mass.reinit(surface.pattern);
-
-        const QGaussSimplex<2> face_quadrature(3);
-        FEFaceValues<3>        fe_face(mesh.mapping(),
-                                fe,
-                                face_quadrature,
-                                update_values | update_JxW_values);
-        for (unsigned int k = 0; k < shaft_faces.size(); ++k)
-          {
-            fe_face.reinit(face_cells[k], face_numbers[k]);
-            face_cells[k]->get_dof_indices(dofs);
-            std::vector<std::pair<unsigned int, unsigned int>> local; // (cell dof, pair)
-            for (const unsigned int i : cell_dofs_on_face(face_cells[k], face_numbers[k]))
-              if (fe.system_to_component_index(i).first == 0)
-                local.emplace_back(i, pair_of_shaft_dof[dofs[i]]);
-            double a = 0;
-            for (unsigned int q = 0; q < face_quadrature.size(); ++q)
-              {
-                a += fe_face.JxW(q);
-                for (const auto &[i, pi] : local)
-                  for (const auto &[j, pj] : local)
-                    surface.mass.add(pi,
-                                     pj,
-                                     fe_face.shape_value(i, q) *
-                                       fe_face.shape_value(j, q) *
-                                       fe_face.JxW(q));
-              }
-            std::vector<unsigned int> face_pairs;
-            for (const auto &l : local)
-              face_pairs.push_back(l.second);
-            surface.faces.push_back(face_pairs);
-            surface.face_area.push_back(a);
-            surface.area += a;
-          }
-        surface.inverse = std::make_shared<SparseDirectUMFPACK>();
-        surface.inverse->initialize(surface.mass);
+        mesh.check_surface_exists(def.shaft_surface, "Interface " + def.name + "/Shaft surface");
+        mesh.check_surface_exists(def.hub_surface, "Interface " + def.name + "/Hub surface");
+        InterfaceSides sides;
+        collect_sides(mesh, dof_handler, support_points, def, sides);
+        const auto pair_of = match_sides(f, def, sides, mesh.matching_tolerance());
+        assemble_surface(f, sides, pair_of, mesh, dof_handler.get_fe());
       }
+  }
+
+  std::map<types::global_dof_index, unsigned int>
+  ContactPairs::match_sides(const unsigned int         f,
+                            const InterfaceDefinition &def,
+                            const InterfaceSides      &sides,
+                            const double               tolerance)
+  {
+    // pair by coordinates: sort the hub side by x and search a window
+    std::vector<SidePoint> hub;
+    for (const auto &[dof, p] : sides.side[1])
+      hub.push_back(p);
+    std::sort(hub.begin(), hub.end(), [](const SidePoint &a, const SidePoint &b) {
+      return a.x[0] < b.x[0];
+    });
+    std::vector<bool>                               hub_used(hub.size(), false);
+    std::map<types::global_dof_index, unsigned int> pair_of_shaft_dof;
+    unsigned int                                    n_unmatched = 0;
+    Point<3>                                        first_unmatched;
+    for (const auto &[dof, p] : sides.side[0])
+      {
+        const double tol = tolerance * std::max(radius(p.x), 1e-12);
+        auto lo = std::lower_bound(hub.begin(), hub.end(), p.x[0] - tol,
+                                   [](const SidePoint &a, const double v) { return a.x[0] < v; });
+        int match = -1;
+        for (auto it = lo; it != hub.end() && it->x[0] <= p.x[0] + tol; ++it)
+          if (it->x.distance(p.x) <= tol)
+            {
+              match = it - hub.begin();
+              break;
+            }
+        if (match < 0)
+          {
+            if (n_unmatched++ == 0)
+              first_unmatched = p.x;
+            continue;
+          }
+        hub_used[match] = true;
+        ContactPair pair;
+        pair.interface         = f;
+        pair.shaft_dofs        = p.dofs;
+        pair.hub_dofs          = hub[match].dofs;
+        pair.position          = p.x;
+        const double r         = radius(p.x);
+        pair.normal            = Tensor<1, 3>({p.x[0] / r, p.x[1] / r, 0.});
+        pair.interference      = def.interference;
+        pair_of_shaft_dof[dof] = surfaces[f].pairs.size();
+        surfaces[f].pairs.push_back(pair_list.size());
+        pair_list.push_back(pair);
+      }
+    for (unsigned int i = 0; i < hub.size(); ++i)
+      if (!hub_used[i] && n_unmatched++ == 0)
+        first_unmatched = hub[i].x;
+    if (n_unmatched > 0)
+      {
+        std::ostringstream s;
+        s << "Interface " << def.name << ": " << n_unmatched << " of "
+          << sides.side[0].size() + sides.side[1].size() << " support points on '"
+          << def.shaft_surface << "'/'" << def.hub_surface
+          << "' have no coincident partner on the other body (first at (" << first_unmatched
+          << ") m). Both bodies must carry coincident nodes on the fit: "
+             "mesh them together (gmsh BooleanFragments) or raise "
+             "Geometry/Interface matching tolerance.";
+        throw InputError(s.str());
+      }
+    return pair_of_shaft_dof;
+  }
+
+  void
+  ContactPairs::assemble_surface(const unsigned int                                     f,
+                                 const InterfaceSides                                  &sides,
+                                 const std::map<types::global_dof_index, unsigned int> &pair_of,
+                                 const AssemblyMesh                                    &mesh,
+                                 const FiniteElement<3>                                &fe)
+  {
+    // consistent surface mass matrix on the shaft side, pair numbering
+    Surface               &surface = surfaces[f];
+    const unsigned int     n       = surface.pairs.size();
+    DynamicSparsityPattern dsp(n, n);
+    for (const auto &face : sides.shaft_faces)
+      for (const auto i : face)
+        for (const auto j : face)
+          dsp.add(pair_of.at(i), pair_of.at(j));
+    surface.pattern.copy_from(dsp);
+    surface.mass.reinit(surface.pattern);
+
+    const QGaussSimplex<2>               face_quadrature(3);
+    FEFaceValues<3>                      fe_face(mesh.mapping(), fe, face_quadrature,
+                            update_values | update_JxW_values);
+    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+    for (unsigned int k = 0; k < sides.shaft_faces.size(); ++k)
+      {
+        const auto &cell = sides.face_cells[k];
+        fe_face.reinit(cell, sides.face_numbers[k]);
+        cell->get_dof_indices(dofs);
+        std::vector<std::pair<unsigned int, unsigned int>> local; // (cell dof, pair)
+        for (const unsigned int i : cell_dofs_on_face(cell, sides.face_numbers[k]))
+          if (fe.system_to_component_index(i).first == 0)
+            local.emplace_back(i, pair_of.at(dofs[i]));
+        double a = 0;
+        for (unsigned int q = 0; q < face_quadrature.size(); ++q)
+          {
+            a += fe_face.JxW(q);
+            for (const auto &[i, pi] : local)
+              for (const auto &[j, pj] : local)
+                surface.mass.add(pi, pj,
+                                 fe_face.shape_value(i, q) * fe_face.shape_value(j, q) *
+                                   fe_face.JxW(q));
+          }
+        std::vector<unsigned int> face_pairs;
+        for (const auto &l : local)
+          face_pairs.push_back(l.second);
+        surface.faces.push_back(face_pairs);
+        surface.face_area.push_back(a);
+        surface.area += a;
+      }
+    surface.inverse = std::make_shared<SparseDirectUMFPACK>();
+    surface.inverse->initialize(surface.mass);
   }
 
   double

@@ -1,3 +1,4 @@
+#include <rotorfit/base/patterns.h>
 #include <rotorfit/contact/contact_solver.h>
 
 #include <deal.II/base/mpi.h>
@@ -82,7 +83,7 @@ namespace rotorfit
                       "(augmented Lagrangian only).");
     prm.declare_entry("Uzawa tolerance",
                       "1e-8",
-                      Patterns::Double(0.),
+                      patterns::Positive(),
                       "Uzawa stops when max |gap| of the closed pairs is below "
                       "this times the interference [-].");
     prm.declare_entry("Low-rank update limit",
@@ -96,7 +97,7 @@ namespace rotorfit
                       "active set.");
     prm.declare_entry("Constraint error limit",
                       "0.01",
-                      Patterns::Double(0.),
+                      patterns::Positive(),
                       "Pure penalty: a speed whose constraint error max |gap| / "
                       "interference of the closed pairs exceeds this is flagged "
                       "converged = 0 [-] (the augmented Lagrangian uses 10 x "
@@ -324,9 +325,7 @@ namespace rotorfit
   {
     column.assign(column.size(), {});
     n_cached = 0;
-    changed.clear();
-    changed_k.clear();
-    capacitance.reinit(0, 0);
+    woodbury.clear();
   }
 
   bool
@@ -348,48 +347,10 @@ namespace rotorfit
         d.size() > 2 * limit)
       return false;
     compute_columns(missing);
-    changed = d;
-    changed_k.resize(d.size());
-    const unsigned int m = d.size();
-    capacitance.reinit(m, m);
-    for (unsigned int a = 0; a < m; ++a)
-      {
-        changed_k[a] = (active[d[a]] ? 1. : -1.) * epsilon[d[a]];
-        for (unsigned int b = 0; b < m; ++b)
-          capacitance(a, b) = column[d[b]][d[a]];
-        capacitance(a, a) += 1. / changed_k[a];
-      }
-    if (m > 0)
-      try
-        {
-          capacitance.compute_lu_factorization();
-        }
-      catch (...)
-        {
-          return false; // singular capacitance: factorise instead
-        }
-    return true;
-  }
-
-  std::vector<double>
-  ContactSolver::apply_update(std::vector<double> &t) const
-  {
-    const unsigned int m = changed.size();
-    std::vector<double> c(m);
-    if (m == 0)
-      return c;
-    Vector<double> rhs(m);
-    for (unsigned int a = 0; a < m; ++a)
-      rhs[a] = t[changed[a]];
-    capacitance.solve(rhs);
-    for (unsigned int a = 0; a < m; ++a)
-      {
-        c[a] = rhs[a];
-        const auto &f = column[changed[a]];
-        for (unsigned int i = 0; i < t.size(); ++i)
-          t[i] -= f[i] * c[a];
-      }
-    return c;
+    std::vector<double> springs(d.size());
+    for (unsigned int a = 0; a < d.size(); ++a)
+      springs[a] = (active[d[a]] ? 1. : -1.) * epsilon[d[a]];
+    return woodbury.reinit(d, springs, column); // false: singular capacitance, factorise instead
   }
 
   unsigned int
@@ -432,7 +393,7 @@ namespace rotorfit
         times.solves += seconds_since(start_time);
         // B^T K_A^-1 rhs in pair space; u stays K_base^-1 rhs for now
         std::vector<double> t = project(u);
-        c                     = apply_update(t);
+        c                     = woodbury.apply(t, column);
 
         double worst = 0;
         for (unsigned int i = 0; i < n; ++i)
@@ -451,8 +412,10 @@ namespace rotorfit
         if (k + 1 == max_uzawa_iterations)
           uzawa_capped = true;
       }
-    if (!changed.empty())
+    if (!woodbury.empty())
       {
+        const auto &changed   = woodbury.changed();
+        const auto &changed_k = woodbury.springs();
         // u = K_base^-1 (rhs - B_D c); its residual against K_A lives on the
         // changed pairs only: B_D (S B_D^T u - c)
         std::fill(f.begin(), f.end(), 0.);
@@ -542,9 +505,9 @@ namespace rotorfit
               }
             next.u_I.add(-w, next.u_C);
           }
-        if (!changed.empty() && !(update_residual <= 1e-8)) // NaN included
+        if (!woodbury.empty() && !(update_residual <= 1e-8)) // NaN included
           continue; // the update lost accuracy: factorise this active set
-        if (!changed.empty())
+        if (!woodbury.empty())
           ++low_rank_updates;
         // P2 vertex pairs carry almost no force (int psi_i dA = 0), so the
         // sign of their multiplier is noise; the pressure field p = M^-1 N

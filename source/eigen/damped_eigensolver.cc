@@ -1,3 +1,4 @@
+#include <rotorfit/base/patterns.h>
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/eigen/damped_eigensolver.h>
 
@@ -90,7 +91,7 @@ namespace rotorfit
       mutable Work                             work;
     };
 
-    /// (A - sigma B)^{-1} r of the first companion form (THEORY 8):
+    /// (A - sigma B)^{-1} r of the first companion form (doc/theory.md 8.2):
     /// y1 = -Q^{-1} [r2 + (C + sigma M) r1], y2 = r1 + sigma y1.
     class ShiftInvert
     {
@@ -181,14 +182,14 @@ namespace rotorfit
     prm.enter_subsection("Eigenproblem");
     prm.declare_entry("Shift",
                       "10",
-                      Patterns::Double(0.),
+                      patterns::Positive(),
                       "Real shift sigma of the shift-invert operator [Hz], > 0 "
                       "(keeps Q(sigma) regular for free bodies). Modes come "
                       "ordered by distance from it; keep it below the lowest "
                       "frequency of interest.");
     prm.declare_entry("Tolerance",
                       "1e-10",
-                      Patterns::Double(0.),
+                      patterns::Positive(),
                       "ARPACK relative accuracy of the Ritz values [-].");
     prm.declare_entry("Krylov size factor",
                       "2",
@@ -201,7 +202,7 @@ namespace rotorfit
                       "Cap on ARPACK's implicit restarts per speed.");
     prm.declare_entry("Backward error limit",
                       "1e-6",
-                      Patterns::Double(0.),
+                      patterns::Positive(),
                       "A mode whose backward error ||Q(lambda) phi|| / "
                       "((|lambda|^2 ||M|| + |lambda| ||C|| + ||K||) ||phi||) "
                       "exceeds this is unconverged: the run stops with an "
@@ -213,11 +214,8 @@ namespace rotorfit
   DampedEigensolver::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Eigenproblem");
+    // > 0 by its pattern: with sigma = 0 a free body makes Q(sigma) singular
     sigma = 2 * M_PI * prm.get_double("Shift");
-    if (!(sigma > 0))
-      throw InputError("Eigenproblem/Shift = " + prm.get("Shift") +
-                       " Hz must be > 0: with sigma = 0 a free body makes "
-                       "Q(sigma) singular.");
     tolerance          = prm.get_double("Tolerance");
     krylov_factor      = prm.get_double("Krylov size factor");
     max_restarts       = prm.get_integer("Maximum restarts");
@@ -225,6 +223,119 @@ namespace rotorfit
     prm.leave_subsection();
     solver.set_type(DirectSolver::Type::mumps_lu); // Q(sigma) is unsymmetric (G)
   }
+
+  namespace
+  {
+    /// Backward error of (lambda, phi) on the quadratic problem:
+    /// ||Q(lambda) phi|| / ((|lambda|^2 ||M|| + |lambda| ||C|| + ||K||) ||phi||).
+    class BackwardError
+    {
+    public:
+      BackwardError(const PETScWrappers::MPI::SparseMatrix &M,
+                    const PETScWrappers::MPI::SparseMatrix &C,
+                    const PETScWrappers::MPI::SparseMatrix &K)
+        : M(M)
+        , C(C)
+        , K(K)
+        , norm_M(M.frobenius_norm())
+        , norm_C(C.frobenius_norm())
+        , norm_K(K.frobenius_norm())
+      {}
+
+      /// Also returns M phi in @p Mp (for MAC and energies).
+      double
+      operator()(const std::complex<double> l, const ComplexVector &phi, ComplexVector &Mp) const
+      {
+        const std::size_t n = M.m();
+        ComplexVector     Cp, Kp;
+        replicated_vmult(M, phi, Mp);
+        replicated_vmult(C, phi, Cp);
+        replicated_vmult(K, phi, Kp);
+        const std::complex<double> l2 = l * l;
+        Vector<double>             re(n), im(n);
+        for (std::size_t i = 0; i < n; ++i)
+          {
+            const std::complex<double> r = l2 * std::complex<double>(Mp.re[i], Mp.im[i]) +
+                                           l * std::complex<double>(Cp.re[i], Cp.im[i]) +
+                                           std::complex<double>(Kp.re[i], Kp.im[i]);
+            re[i] = r.real();
+            im[i] = r.imag();
+          }
+        const double scale = (std::norm(l) * norm_M + std::abs(l) * norm_C + norm_K) * norm(phi);
+        return scale > 0 ? std::sqrt(re.norm_sqr() + im.norm_sqr()) / scale : 0.;
+      }
+
+    private:
+      const PETScWrappers::MPI::SparseMatrix &M, &C, &K;
+      const double                            norm_M, norm_C, norm_K;
+    };
+
+    /// The eigenpair of ARPACK's slot @p j (and of its partner j + 1 for a
+    /// complex pair: @p j is advanced past it), with Im lambda >= 0 and
+    /// |phi| = 1; false for an unconverged slot.
+    bool
+    recover_pair(const std::vector<std::complex<double>> &lambda,
+                 const std::vector<Vector<double>>       &z,
+                 const unsigned int                       nev,
+                 const std::size_t                        n,
+                 const BackwardError                     &backward_error,
+                 const double                             max_backward_error,
+                 unsigned int                            &j,
+                 EigenPair                               &p)
+    {
+      // an unconverged slot: exactly 0 + 0i, a zero vector, or not finite
+      if ((lambda[j] == std::complex<double>(0., 0.)) || !std::isfinite(lambda[j].real()) ||
+          !std::isfinite(lambda[j].imag()) || !(z[j].l2_norm() > 0))
+        return false;
+      p.lambda = lambda[j];
+      p.phi.re.reinit(n);
+      p.phi.im.reinit(n);
+      std::copy(z[j].begin(), z[j].begin() + n, p.phi.re.begin());
+      const bool complex_pair = std::abs(lambda[j].imag()) > 1e-12 * std::abs(lambda[j]);
+      if (complex_pair)
+        {
+          // ArpackSolver returns nev vectors: the partner of the last value
+          // may be missing (one more value is always requested)
+          if (j + 1 >= nev)
+            {
+              j = nev;
+              return false;
+            }
+          std::copy(z[j + 1].begin(), z[j + 1].begin() + n, p.phi.im.begin());
+          p.backward_error = backward_error(p.lambda, p.phi, p.m_phi);
+          if (!(p.backward_error <= max_backward_error))
+            {
+              // the other member of the pair (ARPACK versions differ)
+              ComplexVector swapped{p.phi.re, p.phi.im}, m_swapped;
+              swapped.im *= -1.;
+              const double other = backward_error(p.lambda, swapped, m_swapped);
+              if (other < p.backward_error)
+                {
+                  p.phi            = swapped;
+                  p.m_phi          = m_swapped;
+                  p.backward_error = other;
+                }
+            }
+          if (p.lambda.imag() < 0)
+            {
+              p.lambda = std::conj(p.lambda);
+              p.phi.im *= -1.;
+              p.m_phi.im *= -1.;
+            }
+          ++j; // the conjugate partner
+        }
+      else
+        {
+          p.lambda         = std::complex<double>(lambda[j].real(), 0.);
+          p.backward_error = backward_error(p.lambda, p.phi, p.m_phi);
+        }
+      const double scale = norm(p.phi);
+      if (scale > 0)
+        for (auto *v : {&p.phi.re, &p.phi.im, &p.m_phi.re, &p.m_phi.im})
+          *v /= scale;
+      return true;
+    }
+  } // namespace
 
   std::vector<EigenPair>
   DampedEigensolver::solve(const PETScWrappers::MPI::SparseMatrix &M,
@@ -254,112 +365,38 @@ namespace rotorfit
 
     const double       growth = std::pow(2., attempt);
     const unsigned int ncv    = std::min<std::size_t>(2 * n - 1, krylov_size(nev, growth));
-    stats             = Statistics();
+    stats                       = Statistics();
     stats.factorization_seconds = t_factor;
-    stats.requested   = nev;
-    stats.krylov_size = ncv;
-    stats.max_restarts = static_cast<unsigned int>(max_restarts * growth);
+    stats.requested             = nev;
+    stats.krylov_size           = ncv;
+    stats.max_restarts          = static_cast<unsigned int>(max_restarts * growth);
 
     SolverControl control(stats.max_restarts, tolerance, false, false);
     ArpackSolver  arpack(control,
-                        ArpackSolver::AdditionalData(ncv,
-                                                     ArpackSolver::largest_magnitude,
-                                                     false));
+                        ArpackSolver::AdditionalData(ncv, ArpackSolver::largest_magnitude, false));
     arpack.set_shift(sigma);
-    StateMass                          B(M, n);
-    ShiftInvert                        inverse(M, C, solver, sigma, n, stats.operator_applications);
-    std::vector<Vector<double>>        z(nev + 1, Vector<double>(2 * n));
-    std::vector<std::complex<double>>  lambda(nev);
+    StateMass                         B(M, n);
+    ShiftInvert                       inverse(M, C, solver, sigma, n, stats.operator_applications);
+    std::vector<Vector<double>>       z(nev + 1, Vector<double>(2 * n));
+    std::vector<std::complex<double>> lambda(nev);
     arpack.solve(B, B, inverse, lambda, z, nev);
     stats.iterations      = control.last_step();
     stats.arnoldi_seconds = seconds(t0);
     stats.solve_seconds   = inverse.solve_seconds;
     t0                    = clock::now();
 
-    // backward error of (lambda, phi) on the quadratic problem
-    const double norm_M = M.frobenius_norm(), norm_C = C.frobenius_norm(),
-                 norm_K = K.frobenius_norm();
-    const auto backward_error = [&](const std::complex<double> l, const ComplexVector &phi,
-                                    ComplexVector &Mp) {
-      ComplexVector Cp, Kp;
-      replicated_vmult(M, phi, Mp);
-      replicated_vmult(C, phi, Cp);
-      replicated_vmult(K, phi, Kp);
-      const std::complex<double> l2 = l * l;
-      Vector<double> re(n), im(n);
-      for (std::size_t i = 0; i < n; ++i)
-        {
-          const std::complex<double> r =
-            l2 * std::complex<double>(Mp.re[i], Mp.im[i]) +
-            l * std::complex<double>(Cp.re[i], Cp.im[i]) +
-            std::complex<double>(Kp.re[i], Kp.im[i]);
-          re[i] = r.real();
-          im[i] = r.imag();
-        }
-      const double scale =
-        (std::norm(l) * norm_M + std::abs(l) * norm_C + norm_K) * norm(phi);
-      return scale > 0 ? std::sqrt(re.norm_sqr() + im.norm_sqr()) / scale : 0.;
-    };
-
     // dneupd stores a conjugate pair as Re, Im in consecutive vectors; which
-    // member they belong to is checked by the backward error (THEORY,
-    // correction 1). Only the Im >= 0 member is kept.
+    // member they belong to is checked by the backward error (doc/theory.md
+    // 8.4). Only the Im >= 0 member is kept.
+    const BackwardError    backward_error(M, C, K);
     std::vector<EigenPair> pairs;
     for (unsigned int j = 0; j < nev; ++j)
       {
-        // an unconverged slot: exactly 0 + 0i, a zero vector, or not finite
-        if ((lambda[j] == std::complex<double>(0., 0.)) ||
-            !std::isfinite(lambda[j].real()) || !std::isfinite(lambda[j].imag()) ||
-            !(z[j].l2_norm() > 0))
-          {
-            ++stats.unconverged_slots;
-            continue;
-          }
         EigenPair p;
-        p.lambda = lambda[j];
-        p.phi.re.reinit(n);
-        p.phi.im.reinit(n);
-        std::copy(z[j].begin(), z[j].begin() + n, p.phi.re.begin());
-        const bool complex_pair = std::abs(lambda[j].imag()) > 1e-12 * std::abs(lambda[j]);
-        if (complex_pair)
-          {
-            // ArpackSolver returns nev vectors: the partner of the last
-            // value may be missing (one more value is always requested)
-            if (j + 1 >= nev)
-              break;
-            std::copy(z[j + 1].begin(), z[j + 1].begin() + n, p.phi.im.begin());
-            p.backward_error = backward_error(p.lambda, p.phi, p.m_phi);
-            if (!(p.backward_error <= max_backward_error))
-              {
-                // the other member of the pair (ARPACK versions differ)
-                ComplexVector swapped{p.phi.re, p.phi.im}, m_swapped;
-                swapped.im *= -1.;
-                const double other = backward_error(p.lambda, swapped, m_swapped);
-                if (other < p.backward_error)
-                  {
-                    p.phi            = swapped;
-                    p.m_phi          = m_swapped;
-                    p.backward_error = other;
-                  }
-              }
-            if (p.lambda.imag() < 0)
-              {
-                p.lambda = std::conj(p.lambda);
-                p.phi.im *= -1.;
-                p.m_phi.im *= -1.;
-              }
-            ++j; // the conjugate partner
-          }
-        else
-          {
-            p.lambda         = std::complex<double>(lambda[j].real(), 0.);
-            p.backward_error = backward_error(p.lambda, p.phi, p.m_phi);
-          }
-        const double scale = norm(p.phi);
-        if (scale > 0)
-          for (auto *v : {&p.phi.re, &p.phi.im, &p.m_phi.re, &p.m_phi.im})
-            *v /= scale;
-        pairs.push_back(std::move(p));
+        if (recover_pair(lambda, z, nev, n, backward_error, max_backward_error, j, p))
+          pairs.push_back(std::move(p));
+        else if (j < nev)
+          ++stats.unconverged_slots;
       }
     stats.check_seconds = seconds(t0);
     std::sort(pairs.begin(), pairs.end(), [](const EigenPair &a, const EigenPair &b) {

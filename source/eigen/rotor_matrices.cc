@@ -36,7 +36,7 @@ namespace rotorfit
   {
     const auto &fe = dof_handler.get_fe();
     // the same rule as the static solve: the cancellation of K_sigma and
-    // Omega^2 K_theta on rigid tilt needs consistent integration (THEORY 0)
+    // Omega^2 K_theta on rigid tilt needs consistent integration (doc/theory.md 0)
     const QGaussSimplex<3> quadrature(fe.degree + 2);
     FEValues<3>            fe_values(mapping,
                           fe,
@@ -85,7 +85,7 @@ namespace rotorfit
                   }
             }
           // G <- (G - G^T)/2 cell by cell: the faceted boundary leaves a
-          // symmetric part that would act as spurious damping (THEORY P4)
+          // symmetric part that would act as spurious damping (doc/theory.md P4)
           for (unsigned int i = 0; i < n; ++i)
             for (unsigned int j = 0; j < i; ++j)
               {
@@ -138,7 +138,7 @@ namespace rotorfit
           cell_s           = 0;
           for (unsigned int q = 0; q < quadrature.size(); ++q)
             {
-              // pre-stress at the quadrature point (no projection, THEORY 3)
+              // pre-stress at the quadrature point (no projection, doc/theory.md 3)
               const SymmetricTensor<2, 3> sigma =
                 body.lambda() * trace(strain[q]) * unit_symmetric_tensor<3>() +
                 2 * body.mu() * strain[q];

@@ -1,4 +1,5 @@
 #include <rotorfit/base/input_error.h>
+#include <rotorfit/base/patterns.h>
 #include <rotorfit/material/bodies.h>
 
 #include <deal.II/base/utilities.h>
@@ -34,15 +35,15 @@ namespace rotorfit
                           "body (default: the body's name).");
         prm.declare_entry("Young's modulus",
                           "",
-                          Patterns::Anything(),
+                          patterns::Mandatory(patterns::Positive()),
                           "E [Pa], > 0. Mandatory.");
         prm.declare_entry("Poisson's ratio",
                           "",
-                          Patterns::Anything(),
-                          "nu [-], in (-1, 0.5). Mandatory.");
+                          patterns::Mandatory(Patterns::Double(-1, 0.5)),
+                          "nu [-], in (-1, 0.5) (the ends are singular). Mandatory.");
         prm.declare_entry("Density",
                           "",
-                          Patterns::Anything(),
+                          patterns::Mandatory(patterns::Positive()),
                           "rho [kg/m^3], > 0. Mandatory.");
         prm.leave_subsection();
       }
@@ -66,26 +67,11 @@ namespace rotorfit
             throw InputError("Body " + name + "/" + entry +
                              " is not set; every body needs Young's modulus, "
                              "Poisson's ratio and Density.");
-        const auto number = [&](const std::string &entry) {
-          try
-            {
-              return Utilities::string_to_double(prm.get(entry));
-            }
-          catch (...)
-            {
-              throw InputError("Body " + name + "/" + entry + " = '" +
-                               prm.get(entry) + "' is not a number.");
-            }
-        };
-        b.youngs_modulus = number("Young's modulus");
-        b.poissons_ratio = number("Poisson's ratio");
-        b.density        = number("Density");
-        if (!std::isfinite(b.youngs_modulus) || !std::isfinite(b.density))
-          throw InputError("Body " + name +
-                           ": Young's modulus and Density must be finite numbers.");
-        if (!(b.youngs_modulus > 0) || !(b.density > 0))
-          throw InputError("Body " + name +
-                           ": Young's modulus and Density must be > 0.");
+        // the patterns have checked the values; only the open ends of
+        // Poisson's ratio remain (deal.II's bounds are inclusive)
+        b.youngs_modulus = prm.get_double("Young's modulus");
+        b.poissons_ratio = prm.get_double("Poisson's ratio");
+        b.density        = prm.get_double("Density");
         if (!(b.poissons_ratio > -1. && b.poissons_ratio < 0.5))
           throw InputError("Body " + name + "/Poisson's ratio = " +
                            prm.get("Poisson's ratio") +

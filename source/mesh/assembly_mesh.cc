@@ -1,3 +1,4 @@
+#include <rotorfit/base/patterns.h>
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/base/resources.h>
 #include <rotorfit/mesh/assembly_mesh.h>
@@ -61,7 +62,7 @@ namespace rotorfit
                       "tetrahedra (1 or 2). The geometry is always quadratic.");
     prm.declare_entry("Interface matching tolerance",
                       "1e-8",
-                      Patterns::Double(0.),
+                      patterns::Positive(),
                       "Two interface support points are a pair if they are "
                       "closer than this times their radius [-].");
     prm.leave_subsection();
@@ -197,7 +198,8 @@ namespace rotorfit
           << " this run may use. Coarsen the mesh (Geometry/Geometry parameters) or use a "
              "bigger machine.";
         throw InputError(m.str());
-      }  }
+      }
+  }
 
   AssemblyMesh::GmshData
   AssemblyMesh::run_gmsh() const
@@ -208,84 +210,8 @@ namespace rotorfit
     gmsh::option::setNumber("General.Verbosity", 2);
     try
       {
-        std::string file = geometry_filename;
-        std::filesystem::path scratch;
-        const bool  is_geo =
-          std::filesystem::path(file).extension().string() == ".geo";
-        if (is_geo && !geometry_parameters.empty())
-          {
-            // The .geo's DefineConstant keeps values defined before it. The
-            // wrapper goes to a private temporary file (--validate writes
-            // nothing into the case's directories).
-            scratch = std::filesystem::temp_directory_path() /
-                      ("rotorfit-" + std::to_string(::getpid()) + ".geo");
-            file = scratch.string();
-            std::ofstream out(file);
-            out.precision(17);
-            for (const auto &[name, value] : geometry_parameters)
-              out << name << " = " << value << ";\n";
-            out << "Include \""
-                << std::filesystem::absolute(geometry_filename).string()
-                << "\";\n";
-          }
-        gmsh::open(file);
-        if (!scratch.empty())
-          std::filesystem::remove(scratch);
-        if (is_geo)
-          {
-            check_volume_mesh_size(false); // before a huge surface mesh too
-            gmsh::model::mesh::generate(2);
-            check_volume_mesh_size(true);
-            gmsh::model::mesh::generate(3);
-          }
-        // quadratic geometry always: gmsh puts mid-edge nodes on the CAD
-        gmsh::model::mesh::setOrder(2);
-
-        std::vector<double> parametric;
-        gmsh::model::mesh::getNodes(data.node_tags,
-                                    data.node_coords,
-                                    parametric,
-                                    -1,
-                                    -1,
-                                    false,
-                                    false);
-
-        gmsh::vectorpair groups;
-        gmsh::model::getPhysicalGroups(groups);
-        for (const auto &[dim, tag] : groups)
-          {
-            if (dim != 2 && dim != 3)
-              continue;
-            std::string name;
-            gmsh::model::getPhysicalName(dim, tag, name);
-            if (name.empty())
-              name = std::to_string(tag);
-            std::vector<int> entities;
-            gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities);
-            auto &list = (dim == 3 ? data.volumes[name] : data.surfaces[name]);
-            for (const int e : entities)
-              {
-                std::vector<int>                      types;
-                std::vector<std::vector<std::size_t>> element_tags, nodes;
-                gmsh::model::mesh::getElements(
-                  types, element_tags, nodes, dim, e);
-                for (unsigned int t = 0; t < types.size(); ++t)
-                  {
-                    const int expected = (dim == 3 ? 11 : 9); // tet10, tri6
-                    if (types[t] != expected)
-                      throw InputError(
-                        "Geometry/Geometry file '" + geometry_filename +
-                        "': physical " +
-                        std::string(dim == 3 ? "volume" : "surface") + " '" +
-                        name +
-                        "' holds elements other than tetrahedra/triangles "
-                        "(gmsh type " +
-                        std::to_string(types[t]) +
-                        "); rotorfit reads simplex meshes.");
-                    list.insert(list.end(), nodes[t].begin(), nodes[t].end());
-                  }
-              }
-          }
+        open_and_mesh();
+        read_physical_groups(data);
         data.nodes_per_tet = 10;
         data.nodes_per_tri = 6;
       }
@@ -316,6 +242,93 @@ namespace rotorfit
   }
 
   void
+  AssemblyMesh::open_and_mesh() const
+  {
+    std::string file = geometry_filename;
+    std::filesystem::path scratch;
+    const bool  is_geo =
+      std::filesystem::path(file).extension().string() == ".geo";
+    if (is_geo && !geometry_parameters.empty())
+      {
+        // The .geo's DefineConstant keeps values defined before it. The
+        // wrapper goes to a private temporary file (--validate writes
+        // nothing into the case's directories).
+        scratch = std::filesystem::temp_directory_path() /
+                  ("rotorfit-" + std::to_string(::getpid()) + ".geo");
+        file = scratch.string();
+        std::ofstream out(file);
+        out.precision(17);
+        for (const auto &[name, value] : geometry_parameters)
+          out << name << " = " << value << ";\n";
+        out << "Include \""
+            << std::filesystem::absolute(geometry_filename).string()
+            << "\";\n";
+      }
+    gmsh::open(file);
+    if (!scratch.empty())
+      std::filesystem::remove(scratch);
+    if (is_geo)
+      {
+        check_volume_mesh_size(false); // before a huge surface mesh too
+        gmsh::model::mesh::generate(2);
+        check_volume_mesh_size(true);
+        gmsh::model::mesh::generate(3);
+      }
+    // quadratic geometry always: gmsh puts mid-edge nodes on the CAD
+    gmsh::model::mesh::setOrder(2);
+  }
+
+  void
+  AssemblyMesh::read_physical_groups(GmshData &data) const
+  {
+    std::vector<double> parametric;
+    gmsh::model::mesh::getNodes(data.node_tags,
+                                data.node_coords,
+                                parametric,
+                                -1,
+                                -1,
+                                false,
+                                false);
+
+    gmsh::vectorpair groups;
+    gmsh::model::getPhysicalGroups(groups);
+    for (const auto &[dim, tag] : groups)
+      {
+        if (dim != 2 && dim != 3)
+          continue;
+        std::string name;
+        gmsh::model::getPhysicalName(dim, tag, name);
+        if (name.empty())
+          name = std::to_string(tag);
+        std::vector<int> entities;
+        gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities);
+        auto &list = (dim == 3 ? data.volumes[name] : data.surfaces[name]);
+        for (const int e : entities)
+          {
+            std::vector<int>                      types;
+            std::vector<std::vector<std::size_t>> element_tags, nodes;
+            gmsh::model::mesh::getElements(
+              types, element_tags, nodes, dim, e);
+            for (unsigned int t = 0; t < types.size(); ++t)
+              {
+                const int expected = (dim == 3 ? 11 : 9); // tet10, tri6
+                if (types[t] != expected)
+                  throw InputError(
+                    "Geometry/Geometry file '" + geometry_filename +
+                    "': physical " +
+                    std::string(dim == 3 ? "volume" : "surface") + " '" +
+                    name +
+                    "' holds elements other than tetrahedra/triangles "
+                    "(gmsh type " +
+                    std::to_string(types[t]) +
+                    "); rotorfit reads simplex meshes.");
+                list.insert(list.end(), nodes[t].begin(), nodes[t].end());
+              }
+          }
+      }
+  }
+
+  void
   AssemblyMesh::create(const std::vector<std::string> &body_volumes)
   {
     // mesh on rank 0 only, then broadcast: gmsh is serial and every rank
@@ -343,12 +356,6 @@ namespace rotorfit
     data.nodes_per_tet = Utilities::MPI::broadcast(comm, data.nodes_per_tet, 0);
     data.nodes_per_tri = Utilities::MPI::broadcast(comm, data.nodes_per_tri, 0);
 
-    std::map<std::size_t, Point<3>> node_position;
-    for (unsigned int i = 0; i < data.node_tags.size(); ++i)
-      node_position[data.node_tags[i]] = Point<3>(data.node_coords[3 * i],
-                                                  data.node_coords[3 * i + 1],
-                                                  data.node_coords[3 * i + 2]);
-
     // unknown physical volumes are errors that list what the file has
     for (const auto &name : body_volumes)
       if (data.volumes.count(name) == 0)
@@ -361,12 +368,29 @@ namespace rotorfit
                            geometry_filename + "'; it has: " + known + ".");
         }
 
-    std::vector<Point<3>>    vertices;
-    std::vector<std::size_t> vertex_to_tag;
-    std::vector<CellData<3>> cells;
-    std::vector<std::map<std::size_t, unsigned int>> body_vertex(
-      body_volumes.size());
-    std::map<std::pair<std::size_t, std::size_t>, Point<3>> mid_nodes;
+    const BodyCells body = body_cells(data, body_volumes);
+    tria.create_triangulation(body.vertices, body.cells, SubCellData());
+    collect_surfaces(data, body);
+    build_position_field(body.mid_nodes, body.vertex_to_tag);
+    check_jacobians();
+  }
+
+  AssemblyMesh::BodyCells
+  AssemblyMesh::body_cells(GmshData &data, const std::vector<std::string> &body_volumes) const
+  {
+    std::map<std::size_t, Point<3>> node_position;
+    for (unsigned int i = 0; i < data.node_tags.size(); ++i)
+      node_position[data.node_tags[i]] = Point<3>(data.node_coords[3 * i],
+                                                  data.node_coords[3 * i + 1],
+                                                  data.node_coords[3 * i + 2]);
+
+    BodyCells                body;
+    auto                    &vertices      = body.vertices;
+    auto                    &vertex_to_tag = body.vertex_to_tag;
+    auto                    &cells         = body.cells;
+    auto                    &body_vertex   = body.body_vertex;
+    auto                    &mid_nodes     = body.mid_nodes;
+    body_vertex.resize(body_volumes.size());
 
     for (unsigned int b = 0; b < body_volumes.size(); ++b)
       {
@@ -426,15 +450,19 @@ namespace rotorfit
                            "'.");
       }
 
-    tria.create_triangulation(vertices, cells, SubCellData());
+    return body;
+  }
 
-    // physical surfaces, once per body whose copy of the nodes they touch
+  void
+  AssemblyMesh::collect_surfaces(const GmshData &data, const BodyCells &body)
+  {
+    const auto &body_vertex = body.body_vertex;
     surfaces.clear();
     for (const auto &[name, nodes] : data.surfaces)
       {
         auto &set = surfaces[name];
         for (std::size_t e = 0; e < nodes.size() / data.nodes_per_tri; ++e)
-          for (unsigned int b = 0; b < body_volumes.size(); ++b)
+          for (unsigned int b = 0; b < body_vertex.size(); ++b)
             {
               std::array<unsigned int, 3> key;
               bool                        all = true;
@@ -457,8 +485,6 @@ namespace rotorfit
             }
       }
 
-    build_position_field(mid_nodes, vertex_to_tag);
-    check_jacobians();
   }
 
   void

@@ -1,4 +1,4 @@
-#include <rotorfit/statics/static_problem.h>
+#include <rotorfit/output/paraview_output.h>
 
 #include <deal.II/base/mpi.h>
 
@@ -6,6 +6,8 @@
 #include <deal.II/numerics/data_postprocessor.h>
 
 #include <fstream>
+#include <iomanip>
+#include <sstream>
 
 namespace rotorfit
 {
@@ -47,35 +49,34 @@ namespace rotorfit
     };
   } // namespace
 
+  ParaViewOutput::ParaViewOutput(const Discretization &model, const std::string &directory)
+    : model(model)
+    , directory(directory)
+  {}
+
   void
-  StaticProblem::write_vtu(const unsigned int          step,
-                           const double                rpm,
-                           const ContactSolver::State &state,
-                           const std::vector<double>  &pressure)
+  ParaViewOutput::write_static(const StaticState &state)
   {
-    const double w = std::pow(SpeedSchedule::rpm_to_rad_per_s(rpm), 2);
     PETScWrappers::MPI::Vector u;
-    contact.displacement(w, u);
+    state.displacement(u);
 
     // contact fields on the pair nodes (status 1 closed / 0 open, pressure,
     // gap) carried in a vector with the displacement's layout
+    const auto    &dof_handler = model.dofs();
     Vector<double> contact_fields(dof_handler.n_dofs());
-    const auto    &list = pairs.pairs();
+    const auto    &list = model.pairs().pairs();
+    const auto    &c    = state.contact;
     for (unsigned int i = 0; i < list.size(); ++i)
-      for (const auto &dofs : {list[i].shaft_dofs, list[i].hub_dofs})  // x: status, y: pressure
+      for (const auto &dofs : {list[i].shaft_dofs, list[i].hub_dofs})
         {
-          contact_fields[dofs[0]]     = state.active[i] ? 1. : 0.;
-          contact_fields[dofs[1]]     = state.active[i] ? pressure[i] : 0.;
+          contact_fields[dofs[0]] = c.active[i] ? 1. : 0.;          // x: status
+          contact_fields[dofs[1]] = c.active[i] ? c.pressure[i] : 0.; // y: pressure
+          contact_fields[dofs[2]] = c.gap[i];                        // z: gap
         }
-    // the z DoF of each pair node carries the gap
-    for (unsigned int i = 0; i < list.size(); ++i)
-      {
-        contact_fields[list[i].shaft_dofs[2]] = state.gap[i];
-        contact_fields[list[i].hub_dofs[2]]   = state.gap[i];
-      }
 
-    Vector<float> body(mesh.triangulation().n_active_cells());
-    for (const auto &cell : mesh.triangulation().active_cell_iterators())
+    const auto   &tria = model.mesh().triangulation();
+    Vector<float> body(tria.n_active_cells());
+    for (const auto &cell : tria.active_cell_iterators())
       body[cell->active_cell_index()] = cell->material_id();
 
     DataOut<3> data_out;
@@ -91,18 +92,64 @@ namespace rotorfit
                              {"contact_closed", "contact_pressure_Pa", "contact_gap_m"},
                              DataOut<3>::type_dof_data,
                              scalar3);
-    VonMises von_mises(bodies);
+    VonMises von_mises(model.bodies());
     data_out.add_data_vector(u, von_mises);
     data_out.add_data_vector(body, "body", DataOut<3>::type_cell_data);
-    data_out.build_patches(mesh.mapping(), mesh.element_order());
+    data_out.build_patches(model.mesh().mapping(), model.element_order());
 
-    const std::string name = data_out.write_vtu_with_pvtu_record(
-      output_dir + "/", "solution", step, comm, 4, 0);
-    pvd_records.emplace_back(rpm, name);
+    write(data_out, "solution", state.index, state.rpm, static_records);
+  }
+
+  void
+  ParaViewOutput::write_modes(const ModalResult &result)
+  {
+    const auto &dof_handler = model.dofs();
+    const auto &modes       = result.modes;
+    DataOut<3>  data_out;
+    data_out.attach_dof_handler(dof_handler);
+    const std::vector<DataComponentInterpretation::DataComponentInterpretation>
+      vector3(3, DataComponentInterpretation::component_is_part_of_vector);
+    for (unsigned int m = 0; m < modes.size(); ++m)
+      {
+        std::ostringstream name;
+        name << "mode_" << std::setw(2) << std::setfill('0') << m + 1;
+        data_out.add_data_vector(modes[m].phi.re,
+                                 std::vector<std::string>(3, name.str() + "_re"),
+                                 DataOut<3>::type_dof_data, vector3);
+        data_out.add_data_vector(modes[m].phi.im,
+                                 std::vector<std::string>(3, name.str() + "_im"),
+                                 DataOut<3>::type_dof_data, vector3);
+      }
+    Vector<double> tie(dof_handler.n_dofs());
+    const auto    &list = model.pairs().pairs();
+    for (unsigned int i = 0; i < list.size(); ++i)
+      for (const auto &d : {list[i].shaft_dofs, list[i].hub_dofs})
+        for (const auto dof : d)
+          tie[dof] = result.tied[i] ? 1. : 0.;
+    data_out.add_data_vector(tie,
+                             std::vector<std::string>(3, "contact_tied"),
+                             DataOut<3>::type_dof_data, vector3);
+    data_out.build_patches(model.mesh().mapping(), model.element_order());
+    write(data_out, "modes", result.index, result.rpm, mode_records);
+  }
+
+  void
+  ParaViewOutput::write(const DataOut<3>                             &data_out,
+                        const std::string                            &series,
+                        const unsigned int                            index,
+                        const double                                  rpm,
+                        std::vector<std::pair<double, std::string>> &records) const
+  {
+    // one .pvtu per speed (pieces per rank) and the .pvd index of the
+    // series, rewritten each time so that an interrupted run keeps it
+    const MPI_Comm    comm = model.mpi_communicator();
+    const std::string name =
+      data_out.write_vtu_with_pvtu_record(directory + "/", series, index, comm, 4, 0);
+    records.emplace_back(rpm, name);
     if (Utilities::MPI::this_mpi_process(comm) == 0)
       {
-        std::ofstream pvd(output_dir + "/solution.pvd");
-        DataOutBase::write_pvd_record(pvd, pvd_records);
+        std::ofstream pvd(directory + "/" + series + ".pvd");
+        DataOutBase::write_pvd_record(pvd, records);
       }
   }
 } // namespace rotorfit

@@ -1,4 +1,5 @@
 #include <rotorfit/base/input_error.h>
+#include <rotorfit/base/patterns.h>
 #include <rotorfit/statics/speed_schedule.h>
 
 #include <deal.II/base/utilities.h>
@@ -21,15 +22,12 @@ namespace rotorfit
                       Patterns::Selection("range|list"),
                       "How the spin speeds are given: 'range' uses Start, End "
                       "and Step; 'list' uses List.");
-    prm.declare_entry("Start", "0", Patterns::Double(), "First speed [r/min].");
-    prm.declare_entry("End", "30000", Patterns::Double(), "Last speed [r/min].");
-    prm.declare_entry("Step",
-                      "1000",
-                      Patterns::Double(),
-                      "Speed increment [r/min], > 0.");
+    prm.declare_entry("Start", "0", Patterns::Double(0), "First speed [r/min], >= 0.");
+    prm.declare_entry("End", "30000", Patterns::Double(0), "Last speed [r/min], >= Start.");
+    prm.declare_entry("Step", "1000", patterns::Positive(), "Speed increment [r/min], > 0.");
     prm.declare_entry("List",
                       "",
-                      Patterns::List(Patterns::Double(), 0),
+                      Patterns::List(Patterns::Double(0), 0),
                       "Explicit speeds [r/min], strictly increasing, >= 0 "
                       "(used when Mode = list).");
     prm.leave_subsection();
@@ -45,21 +43,11 @@ namespace rotorfit
         const double start = prm.get_double("Start");
         const double end   = prm.get_double("End");
         const double step  = prm.get_double("Step");
-        if (start < 0)
-          throw InputError("Speeds/Start = " + prm.get("Start") +
-                           " r/min is negative; give a speed >= 0.");
-        if (!(step > 0))
-          throw InputError("Speeds/Step = " + prm.get("Step") +
-                           " r/min must be > 0; give a positive increment.");
         if (end < start)
           throw InputError("Speeds/End = " + prm.get("End") +
                            " r/min is below Speeds/Start = " +
                            prm.get("Start") +
                            " r/min; give End >= Start.");
-        for (const char *entry : {"Start", "End", "Step"})
-          if (!std::isfinite(prm.get_double(entry)))
-            throw InputError(std::string("Speeds/") + entry + " = " + prm.get(entry) +
-                             " is not a finite number of r/min.");
         // counted in double: a tiny Step must not overflow the count
         const double count = std::floor((end - start) / step + 1e-9);
         if (!(count <= 100000))
@@ -89,17 +77,9 @@ namespace rotorfit
           throw InputError("Speeds/List has " + std::to_string(items.size()) +
                            " speeds (at most 100001).");
         for (const auto &s : items)
-          {
-            speeds.push_back(Utilities::string_to_double(s));
-            if (!std::isfinite(speeds.back()))
-              throw InputError("Speeds/List has the speed '" + s +
-                               "', which is not a finite number of r/min.");
-          }
+          speeds.push_back(Utilities::string_to_double(s));
         for (unsigned int i = 0; i < speeds.size(); ++i)
           {
-            if (speeds[i] < 0)
-              throw InputError("Speeds/List has the negative speed " +
-                               items[i] + " r/min; give speeds >= 0.");
             if (i > 0 && !(speeds[i] > speeds[i - 1]))
               throw InputError("Speeds/List is not strictly increasing at " +
                                items[i] + " r/min; sort the list.");

@@ -1,53 +1,37 @@
 #include <rotorfit/base/input_error.h>
-#include <rotorfit/constraints/cylindrical_constraints.h>
 #include <rotorfit/material/elasticity.h>
+#include <rotorfit/statics/speed_schedule.h>
 #include <rotorfit/statics/static_problem.h>
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/utilities.h>
 
-#include <deal.II/fe/fe_simplex_p.h>
 #include <deal.II/fe/fe_values.h>
 
 #include <deal.II/lac/full_matrix.h>
 
-#include <filesystem>
-#include <fstream>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
-#include <limits>
 
 namespace rotorfit
 {
   using namespace dealii;
 
-  StaticProblem::StaticProblem(const MPI_Comm comm, Log &log)
-    : comm(comm)
+  StaticProblem::StaticProblem(const Discretization &model, Log &log, TimerOutput &timer)
+    : model(model)
     , log(log)
-    , mesh(comm)
+    , timer(timer)
+    , comm(model.mpi_communicator())
+    , history(model.pairs(), model.interfaces(), log)
   {}
 
   void
   StaticProblem::declare_parameters(ParameterHandler &prm)
   {
-    AssemblyMesh::declare_parameters(prm);
-    Bodies::declare_list(prm);
-    ContactInterfaces::declare_list(prm);
-    SpeedSchedule::declare_parameters(prm);
     ContactSolver::declare_parameters(prm);
     DirectSolver::declare_parameters(prm);
-
-    prm.enter_subsection("Contact");
-    prm.declare_entry("On loss of fit",
-                      "continue",
-                      Patterns::Selection("continue|stop"),
-                      "What the sweep does once every interface is fully "
-                      "open: 'continue' (loose bodies held by their "
-                      "cylindrical supports) or 'stop'.");
-    prm.leave_subsection();
-
     prm.enter_subsection("Physics");
     prm.declare_entry("Spin softening",
                       "false",
@@ -57,181 +41,51 @@ namespace rotorfit
                       "closed-form checks use the undeformed radius, and with "
                       "it on every speed needs its own factorisation.");
     prm.leave_subsection();
-
-    prm.enter_subsection("Supports");
-    prm.declare_entry("Axial roller surfaces",
-                      "",
-                      Patterns::List(Patterns::Anything(), 0),
-                      "Physical surfaces with u_z = 0 (for plane-strain "
-                      "verification set-ups). Every body is also held by "
-                      "statically determinate cylindrical supports.");
-    prm.leave_subsection();
-
-    prm.enter_subsection("Output");
-    prm.declare_entry("Directory",
-                      "output",
-                      Patterns::DirectoryName(),
-                      "Where results go (created if missing; relative to the "
-                      "working directory).");
-    prm.declare_entry("Write ParaView files",
-                      "true",
-                      Patterns::Bool(),
-                      "One .pvtu per speed (displacement, von Mises stress, "
-                      "body, contact status, pressure and gap) and a .pvd "
-                      "index.");
-    prm.leave_subsection();
   }
 
   void
-  StaticProblem::parse_parameters(ParameterHandler &prm,
-                                  const std::string &prm_directory)
+  StaticProblem::parse_parameters(ParameterHandler &prm)
   {
-    mesh.parse_parameters(prm, prm_directory);
-    bodies.parse_parameters(prm);
-    interfaces.parse_parameters(prm);
-    speeds.parse_parameters(prm);
     contact.parse_parameters(prm);
-
-    prm.enter_subsection("Contact");
-    stop_on_loss_of_fit = (prm.get("On loss of fit") == "stop");
-    prm.leave_subsection();
     prm.enter_subsection("Physics");
     spin_softening = prm.get_bool("Spin softening");
     prm.leave_subsection();
-    prm.enter_subsection("Supports");
-    roller_surfaces =
-      Utilities::split_string_list(prm.get("Axial roller surfaces"), ',');
-    check_unique(roller_surfaces, "Supports/Axial roller surfaces");
-    prm.leave_subsection();
-    prm.enter_subsection("Output");
-    output_dir     = prm.get("Directory");
-    write_paraview = prm.get_bool("Write ParaView files");
-    prm.leave_subsection();
-    if (output_dir.empty())
-      throw InputError("Output/Directory is empty; give a directory name.");
   }
 
   void
-  StaticProblem::setup()
+  StaticProblem::assemble(const double w_max)
   {
-    timer = std::make_unique<TimerOutput>(timer_stream,
-                                          TimerOutput::never,
-                                          TimerOutput::wall_times);
     {
-      TimerOutput::Scope t(*timer, "mesh (gmsh + triangulation)");
-      mesh.create(bodies.physical_volumes());
+      TimerOutput::Scope t(timer, "assembly (K, centrifugal load)");
+      setup_system();
+      assemble_system();
     }
-    TimerOutput::Scope t(*timer, "setup (DoFs, pairs, constraints)");
-    fe = std::make_unique<FESystem<3>>(FE_SimplexP<3>(mesh.element_order()), 3);
-    dof_handler.reinit(mesh.triangulation());
-    dof_handler.distribute_dofs(*fe);
-    owned = dof_handler.locally_owned_dofs();
-    compute_support_points();
-
-    pairs.build(mesh, dof_handler, support_points, interfaces.list());
-    constraints.clear();
-    const std::string description =
-      make_cylindrical_constraints(mesh,
-                                   dof_handler,
-                                   support_points,
-                                   [&] {
-                                     std::vector<std::string> n;
-                                     for (const auto &b : bodies.list())
-                                       n.push_back(b.name);
-                                     return n;
-                                   }(),
-                                   roller_surfaces,
-                                   constraints);
-    constraints.close();
-
-    log << "Mesh: " << mesh.triangulation().n_global_active_cells()
-        << " tetrahedra, " << dof_handler.n_dofs() << " DOFs (P"
-        << mesh.element_order() << ", quadratic geometry), "
-        << Utilities::MPI::n_mpi_processes(comm) << " MPI rank(s)\n";
-    for (unsigned int i = 0; i < pairs.n_interfaces(); ++i)
-      log << "Interface " << interfaces.list()[i].name << ": "
-          << pairs.pairs_of(i).size() << " node pairs, area "
-          << pairs.area(i) * 1e6 << " mm^2, radial interference "
-          << interfaces.list()[i].interference * 1e6 << " um\n";
-    log << "Static supports:\n" << description;
-    check_interference();
-    check_tip_speed();
-  }
-
-  void
-  StaticProblem::check_interference() const
-  {
-    // The model is linear elastic in small strain: the interference is a
-    // strain delta / r of the fit. Metals leave their elastic range at
-    // strains of 0.1 .. 0.5 %; at 1 % the small-strain model itself fails.
-    for (unsigned int f = 0; f < pairs.n_interfaces(); ++f)
-      {
-        double r = 0;
-        for (const auto i : pairs.pairs_of(f))
-          r += std::hypot(pairs.pairs()[i].position[0], pairs.pairs()[i].position[1]);
-        r /= std::max<std::size_t>(1, pairs.pairs_of(f).size());
-        const auto  &d      = interfaces.list()[f];
-        const double strain = d.interference / r;
-        std::ostringstream m;
-        m << "Interface " << d.name << "/Radial interference = " << d.interference
-          << " m is " << std::setprecision(3) << 100 * strain << " % of the fit radius "
-          << r * 1e3 << " mm";
-        if (strain > 1e-2)
-          throw InputError(m.str() + "; rotorfit's linear small-strain model holds below 1 % "
-                                     "(metals yield at 0.1 .. 0.5 %). Check the units (metres, "
-                                     "on the radius).");
-        if (strain > 2e-3)
-          log << "Warning: " << m.str()
-              << ": above the elastic limit strain of most shaft and hub alloys (about "
-                 "0.2 %); the fit may yield, which a linear elastic model does not see.\n";
-      }
-  }
-
-  void
-  StaticProblem::check_tip_speed() const
-  {
-    // A speed range that no rotor survives is a units slip (rad/s, Hz
-    // or r/min): the rim speed of the largest radius against 2,000 m/s,
-    // about twice the burst speed of the strongest metal disks.
-    double r_max = 0;
-    for (const auto &p : support_points)
-      r_max = std::max(r_max, std::hypot(p[0], p[1]));
-    const double rpm = speeds.speeds_rpm().back();
-    const double tip = SpeedSchedule::rpm_to_rad_per_s(rpm) * r_max;
-    if (tip > 2000)
-      {
-        std::ostringstream m;
-        m << std::setprecision(3) << "Speeds: the last speed, " << rpm
-          << " r/min, moves the outer radius " << r_max * 1e3 << " mm at " << tip
-          << " m/s; no metal rotor survives 2,000 m/s (disks burst at 500 .. 1,000 m/s). "
-             "Speeds are in r/min.";
-        throw InputError(m.str());
-      }
-  }
-
-  void
-  StaticProblem::compute_support_points()
-  {
-    // support points through the curved mapping: pairs and supports must
-    // see the same geometry as the integrals
-    support_points.assign(dof_handler.n_dofs(), Point<3>());
-    const Quadrature<3> q(fe->get_unit_support_points());
-    FEValues<3> fe_values(mesh.mapping(), *fe, q, update_quadrature_points);
-    std::vector<types::global_dof_index> dofs(fe->n_dofs_per_cell());
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      {
-        fe_values.reinit(cell);
-        cell->get_dof_indices(dofs);
-        for (unsigned int i = 0; i < dofs.size(); ++i)
-          support_points[dofs[i]] = fe_values.quadrature_point(i);
-      }
+    contact.initialize(model.pairs(),
+                       model.static_constraints(),
+                       sparsity,
+                       stiffness,
+                       unit_centrifugal_load,
+                       spin_softening ? &spin_softening_matrix : nullptr,
+                       stiffness_diagonal,
+                       model.locally_owned_dofs(),
+                       comm,
+                       w_max);
+    log << "Contact: "
+        << (contact.method() == ContactSolver::Method::penalty ? "penalty" :
+                                                                  "augmented Lagrangian")
+        << ", penalty scale " << contact.penalty_scale() << "; linear solver "
+        << contact.linear_solver().name() << "; spin softening "
+        << (spin_softening ? "on" : "off") << "\n";
   }
 
   void
   StaticProblem::setup_system()
   {
+    const auto &dof_handler = model.dofs();
+    const auto &owned       = model.locally_owned_dofs();
+    const auto &constraints = model.static_constraints();
     sparsity.reinit(dof_handler.n_dofs(), dof_handler.n_dofs(), owned);
-    std::vector<types::global_dof_index> dofs(fe->n_dofs_per_cell());
+    std::vector<types::global_dof_index> dofs(dof_handler.get_fe().n_dofs_per_cell());
     // all cells, not only the owned ones: an owned row may couple to DoFs
     // of cells on other ranks
     for (const auto &cell : dof_handler.active_cell_iterators())
@@ -239,7 +93,7 @@ namespace rotorfit
         cell->get_dof_indices(dofs);
         constraints.add_entries_local_to_global(dofs, sparsity, false);
       }
-    for (const auto &p : pairs.pairs())
+    for (const auto &p : model.pairs().pairs())
       {
         std::vector<types::global_dof_index> d = {p.hub_dofs[0], p.hub_dofs[1],
                                                   p.shaft_dofs[0], p.shaft_dofs[1]};
@@ -253,27 +107,29 @@ namespace rotorfit
   }
 
   void
-  StaticProblem::assemble()
+  StaticProblem::assemble_system()
   {
-    TimerOutput::Scope t(*timer, "assembly (K, centrifugal load)");
-    setup_system();
-    // one rule for every volume integral (THEORY 0)
-    const QGaussSimplex<3> quadrature(mesh.element_order() + 2);
-    FEValues<3>            fe_values(mesh.mapping(),
-                          *fe,
+    // one rule for every volume integral (doc/theory.md 0)
+    const auto            &fe         = model.dofs().get_fe();
+    const auto            &bodies     = model.bodies();
+    const auto            &constraints = model.static_constraints();
+    const QGaussSimplex<3> quadrature(model.element_order() + 2);
+    FEValues<3>            fe_values(model.mesh().mapping(),
+                          fe,
                           quadrature,
                           update_values | update_gradients |
                             update_quadrature_points | update_JxW_values);
     const FEValuesExtractors::Vector disp(0);
-    const unsigned int               n = fe->n_dofs_per_cell();
+    const unsigned int               n = fe.n_dofs_per_cell();
     FullMatrix<double>               cell_k(n, n), cell_m(n, n);
     Vector<double>                   cell_f(n);
     std::vector<types::global_dof_index> dofs(n);
     std::vector<SymmetricTensor<2, 3>>   eps(n);
     std::vector<Tensor<1, 3>>            phi(n);
-    std::vector<double> mass(bodies.size(), 0.), polar(bodies.size(), 0.);
+    mass.assign(bodies.size(), 0.);
+    polar.assign(bodies.size(), 0.);
 
-    for (const auto &cell : dof_handler.active_cell_iterators())
+    for (const auto &cell : model.dofs().active_cell_iterators())
       if (cell->is_locally_owned())
         {
           fe_values.reinit(cell);
@@ -319,43 +175,82 @@ namespace rotorfit
         polar[b] = Utilities::MPI::sum(polar[b], comm);
       }
 
-    std::ofstream summary;
-    if (Utilities::MPI::this_mpi_process(comm) == 0)
-      summary.open(output_dir + "/summary.txt", std::ios::app);
-    summary << std::setprecision(8);
     log << "Mass properties (curved geometry):\n";
     for (unsigned int b = 0; b < bodies.size(); ++b)
+      log << "  body " << bodies[b].name << ": mass " << mass[b]
+          << " kg, polar moment of inertia " << polar[b] << " kg m^2\n";
+  }
+
+  const StaticState &
+  StaticProblem::solve(const double rpm, const unsigned int index)
+  {
+    const double w = std::pow(SpeedSchedule::rpm_to_rad_per_s(rpm), 2);
+    state        = StaticState();
+    state.solver = &contact;
+    state.rpm    = rpm;
+    state.index  = index;
+    {
+      TimerOutput::Scope t(timer, "contact solve");
+      state.contact = contact.solve(w);
+    }
+    check_finite(state);
+    uzawa_iterations += state.contact.uzawa_iterations;
+    history.record(state, contact.decomposition(), contact.constraint_error_limit());
+    return state;
+  }
+
+  void
+  StaticProblem::check_finite(const StaticState &s) const
+  {
+    // NaN or Inf (a factorisation that lost its digits, an extreme
+    // penalty) must never reach a result file
+    unsigned int bad = 0;
+    for (unsigned int i = 0; i < s.contact.active.size(); ++i)
+      bad += !(std::isfinite(s.contact.force[i]) && std::isfinite(s.contact.gap[i]) &&
+               std::isfinite(s.contact.pressure[i]));
+    if (bad > 0)
       {
-        log << "  body " << bodies[b].name << ": mass " << mass[b]
-            << " kg, polar moment of inertia " << polar[b] << " kg m^2\n";
-        summary << "body." << bodies[b].name << ".mass_kg " << mass[b] << "\n"
-                << "body." << bodies[b].name << ".polar_moment_kgm2 "
-                << polar[b] << "\n";
+        std::ostringstream m;
+        m << std::setprecision(8) << "the static contact solve at " << s.rpm
+          << " r/min gave non-finite forces, gaps or pressures (NaN or Inf) at " << bad
+          << " pairs: the factorisation lost its digits; lower Contact/Penalty scale (now "
+          << contact.penalty_scale() << ")";
+        throw SolverFailure(s.rpm, m.str());
       }
   }
 
   void
-  StaticProblem::run(const SpeedCallback &after_speed)
+  StaticProblem::finish(Summary &summary)
   {
-    assemble();
-    const double w_max =
-      std::pow(SpeedSchedule::rpm_to_rad_per_s(speeds.speeds_rpm().back()), 2);
-    contact.initialize(pairs,
-                       constraints,
-                       sparsity,
-                       stiffness,
-                       unit_centrifugal_load,
-                       spin_softening ? &spin_softening_matrix : nullptr,
-                       stiffness_diagonal,
-                       owned,
-                       comm,
-                       w_max);
-    log << "Contact: "
-        << (contact.method() == ContactSolver::Method::penalty ? "penalty" :
-                                                                  "augmented Lagrangian")
-        << ", penalty scale " << contact.penalty_scale() << "; linear solver "
-        << contact.linear_solver().name() << "; spin softening "
-        << (spin_softening ? "on" : "off") << "\n";
-    sweep(after_speed);
+    for (unsigned int b = 0; b < model.bodies().size(); ++b)
+      {
+        const std::string key = "body." + model.bodies()[b].name + ".";
+        summary.add(key + "mass_kg", mass.empty() ? 0. : mass[b]);
+        summary.add(key + "polar_moment_kgm2", polar.empty() ? 0. : polar[b]);
+      }
+    history.add_to_summary(summary);
+    summary.add("static.factorizations", contact.n_factorizations());
+    summary.add("static.low_rank_updates", contact.n_low_rank_updates());
+    summary.add("static.influence_columns", contact.n_influence_columns());
+    summary.add("static.uzawa_iterations", uzawa_iterations);
+    summary.add("static.workspace_retries", contact.linear_solver().n_workspace_retries());
+    log << "Static sweep: " << history.n_speeds() << " speeds, " << contact.n_factorizations()
+        << " factorisations, " << contact.n_low_rank_updates() << " low-rank updates ("
+        << contact.n_influence_columns() << " influence columns), "
+        << contact.linear_solver().n_solves()
+        << " back-substitutions (influence columns included); " << std::fixed
+        << std::setprecision(1) << contact.timing().factorize << " s factorising, "
+        << contact.timing().columns << " s influence columns, " << contact.timing().solves
+        << " s load-case back-substitutions" << std::defaultfloat << std::setprecision(6)
+        << '\n';
+  }
+} // namespace rotorfit
+
+namespace rotorfit
+{
+  double
+  StaticState::w() const
+  {
+    return std::pow(SpeedSchedule::rpm_to_rad_per_s(rpm), 2);
   }
 } // namespace rotorfit

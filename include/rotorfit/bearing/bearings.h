@@ -17,7 +17,7 @@ namespace rotorfit
 {
   /**
    * Bearings: stationary springs and dampers on the area-averaged lateral
-   * displacement of a shaft end face (THEORY 5(b), RBE3-like). With the
+   * displacement of a shaft end face (doc/theory.md 5.1, RBE3-like). With the
    * weights a_i = (1/A) int_face N_i dA, u_x = sum a_i U_ix, and
    * K = sum_{ab} k_ab a_a a_b^T, C = sum_{ab} c_ab a_a a_b^T (a, b in {x, y}).
    * No torsional or ovalisation restraint; exact for rigid motion.

@@ -15,7 +15,7 @@ namespace rotorfit
 
   /**
    * Statically determinate supports of each body for the static
-   * (axisymmetric, torsion-free) solve, THEORY 6: u_theta = 0 at five
+   * (axisymmetric, torsion-free) solve, doc/theory.md 6: u_theta = 0 at five
    * support points (two axial stations, angles near 0, 90, 180 degrees)
    * removes U_x, U_y and the three rotations; u_z = 0 at one point near the
    * body's mid-plane removes U_z. Applied to every body, so a fully loose

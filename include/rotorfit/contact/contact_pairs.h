@@ -12,6 +12,7 @@
 
 #include <array>
 #include <string>
+#include <map>
 #include <vector>
 
 namespace rotorfit
@@ -149,6 +150,25 @@ namespace rotorfit
       dealii::SparseMatrix<double>           mass;
       std::shared_ptr<dealii::SparseDirectUMFPACK> inverse;
     };
+
+    /// Support points and faces of the two sides of one interface.
+    struct InterfaceSides;
+
+    /// The pairs of interface @p f: pair_list and surfaces[f].pairs;
+    /// returns the pair number of each shaft-side x DoF.
+    std::map<dealii::types::global_dof_index, unsigned int>
+    match_sides(const unsigned int         f,
+                const InterfaceDefinition &definition,
+                const InterfaceSides      &sides,
+                const double               tolerance);
+
+    /// Surface mass matrix and face areas of interface @p f (shaft side).
+    void
+    assemble_surface(const unsigned int                                             f,
+                     const InterfaceSides                                          &sides,
+                     const std::map<dealii::types::global_dof_index, unsigned int> &pair_of,
+                     const AssemblyMesh                                            &mesh,
+                     const dealii::FiniteElement<3>                                &fe);
 
     std::vector<ContactPair> pair_list;
     std::vector<Surface>     surfaces;

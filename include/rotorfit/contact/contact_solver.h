@@ -1,6 +1,7 @@
 #pragma once
 
 #include <rotorfit/contact/contact_pairs.h>
+#include <rotorfit/contact/low_rank_update.h>
 #include <rotorfit/linear_algebra/direct_solver.h>
 
 #include <deal.II/base/index_set.h>
@@ -8,7 +9,6 @@
 
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
-#include <deal.II/lac/lapack_full_matrix.h>
 #include <deal.II/lac/petsc_sparse_matrix.h>
 #include <deal.II/lac/petsc_vector.h>
 #include <deal.II/lac/vector.h>
@@ -19,7 +19,7 @@
 namespace rotorfit
 {
   /**
-   * Node-to-node frictionless contact of the static solve (THEORY 7):
+   * Node-to-node frictionless contact of the static solve (doc/theory.md 7; the affine law 2.3, 2.4; the updates 7.7):
    * penalty or augmented Lagrangian (Uzawa), active-set iteration with an
    * iteration cap and a cycling guard.
    *
@@ -239,11 +239,6 @@ namespace rotorfit
     add_pair_forces(const std::vector<double>          &f,
                     dealii::PETScWrappers::MPI::Vector &rhs) const;
 
-    /// t = B^T K_base^-1 r in, B^T K_A^-1 r out; returns the Woodbury
-    /// coefficients c (K_A^-1 r = K_base^-1 (r - B_D c)).
-    std::vector<double>
-    apply_update(std::vector<double> &t) const;
-
     /// Uzawa (or one penalty solve) for one load case; returns iterations.
     unsigned int
     solve_load_case(const dealii::PETScWrappers::MPI::Vector *base_load,
@@ -287,9 +282,7 @@ namespace rotorfit
     bool                             base_valid = false;
     std::vector<std::vector<double>> column; ///< F(:,p), empty if not computed
     unsigned int                     n_cached = 0;
-    std::vector<unsigned int>        changed;   ///< D
-    std::vector<double>              changed_k; ///< S: +eps added, -eps removed
-    dealii::LAPACKFullMatrix<double> capacitance;
+    LowRankUpdate                    woodbury;  ///< D, S (+eps added, -eps removed), capacitance
     unsigned int                     low_rank_updates  = 0;
     unsigned int                     influence_columns = 0;
     double                           update_residual   = 0;

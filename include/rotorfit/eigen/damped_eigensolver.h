@@ -30,11 +30,11 @@ namespace rotorfit
   };
 
   /**
-   * Damped eigenvalues of M q'' + C q' + K q = 0 (THEORY 8): first companion
+   * Damped eigenvalues of M q'' + C q' + K q = 0 (doc/theory.md 8): first companion
    * linearisation of size 2n, shift-invert with a real shift sigma > 0 and
    * ARPACK (dnaupd mode 3, B = diag(I, M)); one sparse LU of
    * Q(sigma) = sigma^2 M + sigma C + K per call. A positive shift keeps Q
-   * regular for free-free rotors and loose bodies (THEORY P13), and the
+   * regular for free-free rotors and loose bodies (doc/theory.md P13), and the
    * eigenvalues come ordered by |lambda - sigma|, lowest frequencies first.
    *
    * The Arnoldi vectors are replicated on every MPI rank (identical work,

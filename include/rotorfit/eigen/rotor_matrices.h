@@ -16,7 +16,7 @@ namespace rotorfit
 {
   /**
    * The speed-independent matrices of the stationary-frame equations of
-   * motion (THEORY 1, 3, 4.3), without the static supports (P7): mass M,
+   * motion (doc/theory.md 1, 3, 4.3), without the static supports (doc/theory.md P7): mass M,
    * elastic stiffness K, gyroscopic G (skew part only, P4) and the
    * convective stiffness K_theta, all over the rotating bodies with one
    * quadrature rule; and the stress stiffness K_sigma(u) of a static

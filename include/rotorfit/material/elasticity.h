@@ -13,7 +13,7 @@ namespace rotorfit
   /**
    * Adds the isotropic linear-elastic stiffness at quadrature point @p q,
    * (lambda div phi_i div phi_j + 2 mu eps(phi_i) : eps(phi_j)) JxW, to
-   * @p cell_matrix (THEORY 1). The one kernel of the static and the dynamic
+   * @p cell_matrix (doc/theory.md 1). The one kernel of the static and the dynamic
    * stiffness. @p eps is scratch space of the cell's size.
    */
   void

@@ -7,6 +7,8 @@
 
 #include <deal.II/dofs/dof_handler.h>
 
+#include <deal.II/grid/tria_description.h>
+
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/mapping_fe_field.h>
 
@@ -61,6 +63,12 @@ namespace rotorfit
       return tria;
     }
 
+    const dealii::parallel::shared::Triangulation<3> &
+    triangulation() const
+    {
+      return tria;
+    }
+
     const dealii::Mapping<3> &
     mapping() const
     {
@@ -105,6 +113,28 @@ namespace rotorfit
 
     GmshData
     run_gmsh() const;
+    /// Open the geometry (with the Geometry parameters) and mesh it (.geo).
+    void
+    open_and_mesh() const;
+    /// Nodes and the elements of every physical volume and surface.
+    void
+    read_physical_groups(GmshData &data) const;
+
+    /// The vertices of each body, with a body's own copy of the nodes it
+    /// shares with another (the two sides of a fit).
+    struct BodyCells
+    {
+      std::vector<dealii::Point<3>>                            vertices;
+      std::vector<std::size_t>                                 vertex_to_tag;
+      std::vector<dealii::CellData<3>>                         cells;
+      std::vector<std::map<std::size_t, unsigned int>>         body_vertex;
+      std::map<std::pair<std::size_t, std::size_t>, dealii::Point<3>> mid_nodes;
+    };
+    BodyCells
+    body_cells(GmshData &data, const std::vector<std::string> &body_volumes) const;
+    /// The physical surfaces, once per body whose copy of the nodes they touch.
+    void
+    collect_surfaces(const GmshData &data, const BodyCells &body);
     /// Refuses a mesh too big for the machine before gmsh meshes it: from
     /// Mesh.MeshSizeMax and the body volumes, then (@p surfaces_meshed)
     /// also from the surface mesh.

@@ -1,0 +1,171 @@
+#pragma once
+
+#include <rotorfit/base/log.h>
+#include <rotorfit/bearing/bearings.h>
+#include <rotorfit/eigen/damped_eigensolver.h>
+#include <rotorfit/eigen/eigen_solution.h>
+#include <rotorfit/eigen/rotor_matrices.h>
+#include <rotorfit/model/discretization.h>
+#include <rotorfit/output/summary.h>
+#include <rotorfit/statics/static_state.h>
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/timer.h>
+
+#include <deal.II/lac/petsc_sparse_matrix.h>
+
+#include <string>
+#include <vector>
+
+namespace rotorfit
+{
+  /**
+   * The pre-stressed damped eigenproblem at one speed (doc/theory.md,
+   * sections 3 to 5, 7.4 and 8), on top of a static state:
+   *
+   *   M q'' + (C_b + Omega G) q' + (K + K_sigma - Omega^2 K_theta + K_c + K_b) q = 0
+   *
+   * in the stationary frame, with the contact of the eigenproblem chosen per
+   * run (bonded, frictionless, fixed, frozen) and the stress stiffening from
+   * the static displacement. Eigenvalues of rigid-body motions, of loose
+   * bodies and overdamped ones are set apart; a speed whose modes do not all
+   * converge is solved once more with a larger Krylov space, then the run
+   * stops (SolverFailure).
+   *
+   * Parameters: subsections "Eigenproblem" (model and solver entries),
+   * "Bearings" and "Bearing <name>".
+   */
+  class PrestressedEigenproblem
+  {
+  public:
+    enum class ContactModel
+    {
+      bonded,
+      frictionless,
+      fixed,
+      frozen
+    };
+    enum class StressStiffening
+    {
+      off,
+      interference,
+      full
+    };
+
+    PrestressedEigenproblem(const Discretization &model, Log &log, dealii::TimerOutput &timer);
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+
+    /// @p spin_softening: the static problem's (refused with
+    /// interference-only stress stiffening).
+    void
+    parse_parameters(dealii::ParameterHandler &prm,
+                     const std::string        &prm_directory,
+                     const bool                spin_softening);
+
+    bool
+    enabled() const
+    {
+      return compute;
+    }
+
+    unsigned int
+    n_modes() const
+    {
+      return n_wanted;
+    }
+
+    const Bearings &
+    bearing_list() const
+    {
+      return bearings;
+    }
+
+    /// Vectors of length 2 n the eigensolver may hold at once (Krylov space
+    /// of a retry and the eigenvectors), for the memory estimate.
+    double
+    state_vectors_needed(const double n_dofs) const
+    {
+      return std::min<double>(2 * n_dofs, eigensolver.krylov_size(max_nev, 2)) + max_nev + 1;
+    }
+
+    /// Bearing faces, sparsity; refuses more modes than the model has.
+    void
+    setup();
+
+    /// M, K, G, K_theta (and the bearings of a speed-independent set).
+    void
+    assemble_speed_independent_matrices();
+
+    /// The modes at the speed of @p state.
+    EigenSolution
+    solve(const StaticState &state);
+
+    /// Log the totals, add the eigen entries to @p summary.
+    void
+    finish(Summary &summary) const;
+
+  private:
+    void
+    assemble_tangent(const StaticState &state, const std::vector<bool> &tied);
+    void
+    add_stress_stiffness(const StaticState &state);
+    void
+    add_contact_ties(const StaticState &state, const std::vector<bool> &tied);
+    std::vector<bool>
+    tied_pairs(const StaticState &state);
+    /// Zero eigenvalues the supports leave (rigid and loose-body motions).
+    unsigned int
+    expected_zero_modes(const std::vector<bool> &tied,
+                        std::vector<bool>       &loose_body) const;
+    /// Split eigenpairs into elastic and rigid; false if incomplete.
+    bool
+    sort_eigenpairs(std::vector<EigenPair>        &pairs,
+                    const std::vector<bool>       &loose_body,
+                    EigenSolution                 &solution,
+                    unsigned int                  &unconverged,
+                    double                        &worst) const;
+    void
+    log_speed(const EigenSolution &solution, const DampedEigensolver::Statistics &stats,
+              const double worst) const;
+    void
+    announce_loose_bodies(const StaticState &state, const std::vector<bool> &loose_body);
+    /// Virial checks of K_sigma on rigid tilt and twist (doc/theory.md 10e).
+    void
+    matrix_checks(const StaticState &state);
+
+    const Discretization &model;
+    Log                  &log;
+    dealii::TimerOutput  &timer;
+    MPI_Comm              comm;
+
+    // parameters
+    bool             compute       = true;
+    unsigned int     n_wanted      = 12;
+    ContactModel     contact_model = ContactModel::bonded;
+    double           contact_scale = 1000;
+    StressStiffening stiffening    = StressStiffening::full;
+    double           rigid_threshold_hz = 1;
+    bool             self_check      = false;
+    bool             convective_term = true;
+    std::vector<std::pair<std::string, double>> checks;
+
+    Bearings                       bearings;
+    DampedEigensolver              eigensolver;
+    dealii::DynamicSparsityPattern sparsity;
+    RotorMatrices                  matrices;
+
+    dealii::PETScWrappers::MPI::SparseMatrix bearing_k, bearing_c, k_sigma_I, k_sigma_C,
+      tangent, damping, shifted;
+    unsigned int k_sigma_serial = 0;
+
+    std::vector<unsigned int> body_of_dof;
+    std::vector<bool>         frozen_active;
+    unsigned int speeds_done    = 0;
+    unsigned int retried_speeds = 0; ///< speeds solved a second time (eigen retry)
+    unsigned int max_nev        = 0; ///< eigenvalues asked at the most tied state
+    double       worst_backward_error = 0;
+    bool         announced_loose      = false;
+  };
+} // namespace rotorfit

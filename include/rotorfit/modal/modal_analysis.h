@@ -1,0 +1,71 @@
+#pragma once
+
+#include <rotorfit/base/log.h>
+#include <rotorfit/eigen/eigen_solution.h>
+#include <rotorfit/modal/mode_tracker.h>
+#include <rotorfit/modal/whirl.h>
+#include <rotorfit/model/discretization.h>
+#include <rotorfit/output/summary.h>
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <vector>
+
+namespace rotorfit
+{
+  /// The modes of one speed, classified and tracked.
+  struct ModalResult
+  {
+    double                     rpm   = 0;
+    unsigned int               index = 0; ///< position in the speed list
+    std::vector<WhirlMode>     modes;     ///< elastic, lowest first
+    std::vector<RigidMode>     rigid;
+    std::vector<CriticalSpeed> crossings; ///< since the previous speed
+    std::vector<bool>          tied;      ///< pairs the eigenproblem tied
+  };
+
+  /**
+   * What an engineer reads off the eigenpairs of a speed: the whirl
+   * direction of each mode (degenerate pairs at rest rotated into circular
+   * orbits first), the line of the Campbell diagram it continues and the
+   * crossings of the lines with the excitation orders.
+   *
+   * Parameters: "Whirl stations", "MAC threshold", "Excitation orders" of
+   * subsection "Eigenproblem".
+   */
+  class ModalAnalysis
+  {
+  public:
+    explicit ModalAnalysis(Log &log)
+      : log(log)
+    {}
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+
+    /// The whirl stations on the mesh.
+    void
+    setup(const Discretization &model);
+
+    /// Classify and track the elastic modes of @p solution (moved from).
+    const ModalResult &
+    analyse(EigenSolution &&solution);
+
+    /// Log and add the number of critical speeds to @p summary.
+    void
+    finish(Summary &summary) const;
+
+  private:
+    Log                      &log;
+    unsigned int              n_stations = 10;
+    std::vector<unsigned int> orders{1};
+    double                    mac_threshold = 0.8;
+    WhirlStations             stations;
+    ModeTracker               tracker;
+    ModalResult               result;
+    unsigned int              n_critical = 0;
+  };
+} // namespace rotorfit

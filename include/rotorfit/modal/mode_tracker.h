@@ -1,0 +1,61 @@
+#pragma once
+
+#include <rotorfit/modal/whirl.h>
+
+#include <string>
+#include <vector>
+
+namespace rotorfit
+{
+  /// A tracked line crossing an excitation order k X: a row of critical_speeds.csv.
+  struct CriticalSpeed
+  {
+    unsigned int tracked_id = 0;
+    std::string  whirl;
+    unsigned int order = 1;
+    double       rpm = 0, frequency_hz = 0;
+  };
+
+  /**
+   * The lines of the Campbell diagram (doc/theory.md 9.4, 9.5): a mode continues
+   * the line of the previous speed's mode it resembles most by the
+   * mass-weighted complex MAC (forward and backward members of a family are
+   * M-orthogonal, so they are never confused), greedily, best first, and
+   * only between modes of the same whirl direction. A line that changes
+   * sign against k X between two speeds crosses it at the linearly
+   * interpolated speed.
+   */
+  class ModeTracker
+  {
+  public:
+    ModeTracker() = default;
+    ModeTracker(const std::vector<unsigned int> &orders, const double mac_threshold)
+      : orders(orders)
+      , threshold(mac_threshold)
+    {}
+
+    /// Set the tracked ids of @p modes; the crossings since the previous speed.
+    std::vector<CriticalSpeed>
+    track(const double rpm, std::vector<WhirlMode> &modes);
+
+    /// Complex MAC with the mass matrix: |a^H M b|^2 / (a^H M a  b^H M b).
+    static double
+    mac(const ComplexVector &a, const ComplexVector &m_a,
+        const ComplexVector &b, const ComplexVector &m_b);
+
+  private:
+    struct Line
+    {
+      unsigned int  id;
+      double        frequency_hz;
+      std::string   whirl;
+      ComplexVector phi, m_phi;
+    };
+
+    std::vector<Line>         previous;
+    double                    previous_rpm = 0;
+    unsigned int              next_id      = 1;
+    std::vector<unsigned int> orders{1};
+    double                    threshold = 0.8;
+  };
+} // namespace rotorfit

@@ -1,0 +1,87 @@
+#pragma once
+
+#include <rotorfit/base/log.h>
+#include <rotorfit/modal/modal_analysis.h>
+#include <rotorfit/model/discretization.h>
+#include <rotorfit/output/paraview_output.h>
+#include <rotorfit/output/summary.h>
+#include <rotorfit/output/tables.h>
+#include <rotorfit/statics/static_state.h>
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <memory>
+#include <string>
+
+namespace rotorfit
+{
+  /**
+   * The output folder of a run and everything written into it: the tables
+   * (one writer per file, each speed appended as soon as it is done), the
+   * ParaView files, summary.txt (once, at the end) and campbell.png.
+   *
+   * Parameters: subsection "Output"; "Write mode shapes" and "Campbell
+   * plot" of subsection "Eigenproblem".
+   */
+  class Results
+  {
+  public:
+    Results(const MPI_Comm comm, Log &log);
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+
+    /// @p directory_override (the command line's --output) wins if not empty.
+    void
+    parse_parameters(dealii::ParameterHandler &prm, const std::string &directory_override);
+
+    const std::string &
+    directory() const
+    {
+      return output_dir;
+    }
+
+    /// Refuse a folder that cannot be created or written (no side effect).
+    void
+    check_writable() const;
+
+    /// Create and lock the folder, remove an earlier run's results, write
+    /// the effective parameters and start log.txt. Rank 0 acts, every rank
+    /// learns the outcome (InputError).
+    void
+    prepare_directory(const dealii::ParameterHandler &prm);
+
+    /// Open the tables: before the first speed.
+    void
+    open(const Discretization &model, const bool with_modes);
+
+    /// The rows and files of a static state.
+    void
+    add(const StaticState &state);
+
+    /// The rows and files of the modes of @p state's speed.
+    void
+    add(const StaticState &state, const ModalResult &modes);
+
+    /// Write summary.txt, then draw campbell.png (which reads it).
+    void
+    finish(const Summary &summary, const bool with_modes);
+
+  private:
+    MPI_Comm    comm;
+    Log        &log;
+    bool        root;
+    std::string output_dir;
+    bool        prepared       = false;
+    bool        write_paraview = true;
+    bool        write_shapes   = true;
+    bool        plot           = true;
+
+    ContactTable                    contact;
+    PairOpeningTable                openings;
+    CampbellTable                   campbell;
+    CriticalSpeedTable              critical;
+    RigidModeTable                  rigid;
+    std::unique_ptr<ParaViewOutput> paraview;
+  };
+} // namespace rotorfit

@@ -1,0 +1,81 @@
+#pragma once
+
+#include <rotorfit/modal/modal_analysis.h>
+#include <rotorfit/statics/static_state.h>
+
+#include <fstream>
+#include <string>
+
+namespace rotorfit
+{
+  /**
+   * The result tables, one class per file. Each opens its file with the
+   * header (units in the column names) and appends the rows of a speed as
+   * soon as it is done, flushed: a run that stops keeps every finished
+   * speed. Only the MPI rank that opened them (rank 0) writes.
+   */
+  class CsvTable
+  {
+  protected:
+    /// Create @p path with its @p header line; numbers get @p digits digits.
+    void
+    create(const std::string &path, const char *header, const int digits);
+
+    std::ofstream file;
+  };
+
+  /// contact.csv: one row per speed and interface.
+  class ContactTable : CsvTable
+  {
+  public:
+    void
+    open(const std::string &directory);
+    void
+    add(const StaticState &state);
+
+  };
+
+  /// pair_openings.csv: every pair that opened, with its opening speed.
+  class PairOpeningTable : CsvTable
+  {
+  public:
+    void
+    open(const std::string &directory);
+    void
+    add(const StaticState &state);
+
+  };
+
+  /// campbell.csv: one row per speed and elastic mode.
+  class CampbellTable : CsvTable
+  {
+  public:
+    void
+    open(const std::string &directory);
+    void
+    add(const StaticState &state, const ModalResult &modes);
+
+  };
+
+  /// critical_speeds.csv: the crossings of the lines with k X.
+  class CriticalSpeedTable : CsvTable
+  {
+  public:
+    void
+    open(const std::string &directory);
+    void
+    add(const ModalResult &modes);
+
+  };
+
+  /// rigid_modes.csv: rigid-body, loose-body and overdamped eigenvalues.
+  class RigidModeTable : CsvTable
+  {
+  public:
+    void
+    open(const std::string &directory);
+    void
+    add(const ModalResult &modes);
+
+  };
+} // namespace rotorfit

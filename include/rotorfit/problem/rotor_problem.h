@@ -1,0 +1,136 @@
+#pragma once
+
+#include <rotorfit/base/log.h>
+#include <rotorfit/eigen/prestressed_eigenproblem.h>
+#include <rotorfit/modal/modal_analysis.h>
+#include <rotorfit/model/discretization.h>
+#include <rotorfit/output/results.h>
+#include <rotorfit/statics/speed_schedule.h>
+#include <rotorfit/statics/static_problem.h>
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/timer.h>
+
+#include <chrono>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace rotorfit
+{
+  /**
+   * A rotorfit run: a shrink-fitted assembly taken through its speeds. At
+   * every speed the contact state of the fits is solved anew, then the
+   * pre-stressed damped modes on that state; the results of each speed are
+   * written before the next begins. run() is the table of contents; each
+   * member is one concern:
+   *
+   * - model: mesh, finite elements, fit pairs, supports (model/);
+   * - statics: elasticity with contact under interference and spin (statics/);
+   * - eigen: the damped eigenproblem on the static state (eigen/);
+   * - modal: whirl, tracking, critical speeds (modal/);
+   * - results: the output folder and its files (output/).
+   *
+   * Parameters: subsections "Speeds" and "Contact/On loss of fit", and
+   * those of the members.
+   */
+  class RotorProblem
+  {
+  public:
+    RotorProblem(const MPI_Comm comm, Log &log);
+
+    /// Every entry; the per-name subsections for the names given.
+    static void
+    declare_parameters(dealii::ParameterHandler       &prm,
+                       const std::vector<std::string> &bodies,
+                       const std::vector<std::string> &interfaces,
+                       const std::vector<std::string> &bearings);
+
+    /// @p prm_directory: where relative file names in the .prm start;
+    /// @p output_override: the command line's --output (empty: the file's).
+    void
+    parse_parameters(dealii::ParameterHandler &prm,
+                     const std::string        &prm_directory,
+                     const std::string        &output_override);
+
+    /// Refuse an output folder that cannot be written (no side effect).
+    void
+    check_output() const
+    {
+      results.check_writable();
+    }
+
+    /// Create and lock the output folder; from here on finish() leaves
+    /// the run's status in it.
+    void
+    prepare_output(const dealii::ParameterHandler &prm)
+    {
+      results.prepare_directory(prm);
+    }
+
+    const std::string &
+    output_directory() const
+    {
+      return results.directory();
+    }
+
+    /// Mesh, DoFs, pairs, supports, bearings: every input check that needs
+    /// the mesh, and the memory estimate.
+    void
+    setup();
+
+    /// The speed sweep.
+    void
+    run();
+
+    /// summary.txt (with @p status: completed, failed, interrupted,
+    /// refused, and where and why it stopped), campbell.png and the timing.
+    void
+    finish(const std::string &status,
+           const int          exit_code,
+           const std::string &where   = "",
+           const std::string &message = "");
+
+    /// Where the sweep is, for a stop message: "at 12000 r/min (speed 13 of
+    /// 31; 12 speeds finished)", or "during set-up".
+    std::string
+    progress() const;
+
+  private:
+    void
+    assemble_speed_independent_matrices();
+    /// The log line of a finished speed (contact state, iterations, ETA).
+    void
+    log_speed(const StaticState &state);
+
+    /// One physical surface carrying two features (two fits, a bearing on
+    /// a fit) counts it twice.
+    void
+    check_surface_use() const;
+    /// The rim speed at the last speed against what any rotor survives.
+    void
+    check_tip_speed() const;
+    /// Memory of the run's largest phase against the machine's.
+    void
+    check_resources() const;
+
+    MPI_Comm                comm;
+    Log                    &log;
+    std::ostringstream      timer_stream;
+    dealii::TimerOutput     timer;
+    Discretization          model;
+    SpeedSchedule           speeds;
+    StaticProblem           statics;
+    PrestressedEigenproblem eigen;
+    ModalAnalysis           modal;
+    Results                 results;
+    bool                    stop_on_loss_of_fit = false;
+
+    // where the sweep is (progress(), finish())
+    bool         assembled      = false;
+    int          current_step   = -1;
+    unsigned int finished_steps = 0;
+    unsigned int modal_steps    = 0;
+    std::chrono::steady_clock::time_point sweep_start;
+  };
+} // namespace rotorfit

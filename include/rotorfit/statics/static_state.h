@@ -1,0 +1,93 @@
+#pragma once
+
+#include <rotorfit/contact/contact_solver.h>
+
+#include <deal.II/base/point.h>
+
+#include <deal.II/lac/petsc_vector.h>
+
+#include <string>
+#include <vector>
+
+namespace rotorfit
+{
+  /// One interface at one speed: a row of contact.csv.
+  struct InterfaceRow
+  {
+    std::string  name;
+    unsigned int closed_pairs = 0, total_pairs = 0;
+    double       contact_fraction = 0; ///< closed area / interface area
+    double       mean_pressure = 0, max_pressure = 0; ///< [Pa]
+    double       constraint_error = 0;  ///< max |g| / delta over closed pairs
+    double       first_opening_rpm = 0; ///< NaN until a pair opened
+    double       loss_of_fit_rpm   = 0; ///< found, or predicted by the active set's law
+    double       asymmetry         = 0; ///< ContactPairs::asymmetry()
+    std::string  status;                ///< "ok" or why not converged
+  };
+
+  /// A pair that opened between two speeds: a row of pair_openings.csv.
+  struct PairOpening
+  {
+    std::string      interface;
+    dealii::Point<3> position;
+    double           opening_rpm = 0, from_rpm = 0, to_rpm = 0;
+  };
+
+  /**
+   * The static state at one speed, as the rest of the run sees it: the
+   * contact solution, its evaluation per interface and a read-only view of
+   * the affine law behind it (the eigenproblem's stress stiffening and ties
+   * are built from it). Made by StaticProblem::solve(); valid until the
+   * next call.
+   */
+  class StaticState
+  {
+  public:
+    double               rpm   = 0;
+    unsigned int         index = 0; ///< position in the speed list
+    ContactSolver::State contact;   ///< closed pairs, forces, gaps, pressures
+    std::vector<InterfaceRow> interfaces;
+    std::vector<PairOpening>  openings; ///< since the previous speed
+    std::string fit_state = "closed";   ///< closed / partial / open (any interface)
+
+    bool
+    converged() const
+    {
+      return contact.converged;
+    }
+
+    /// Omega^2 [rad^2/s^2].
+    double
+    w() const;
+
+    /// u = u_I + w u_C of the active set (or the tangent with spin softening).
+    const ContactSolver::Decomposition &
+    decomposition() const
+    {
+      return solver->decomposition();
+    }
+
+    /// Displacement at this speed, ghosted (all DoFs).
+    void
+    displacement(dealii::PETScWrappers::MPI::Vector &u) const
+    {
+      solver->displacement(w(), u);
+    }
+
+    /// Penalty of pair @p i [N/m] and the scale it was made with.
+    double
+    pair_penalty(const unsigned int i) const
+    {
+      return solver->penalty(i);
+    }
+    double
+    penalty_scale() const
+    {
+      return solver->penalty_scale();
+    }
+
+  private:
+    const ContactSolver *solver = nullptr;
+    friend class StaticProblem;
+  };
+} // namespace rotorfit

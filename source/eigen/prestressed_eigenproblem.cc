@@ -1,0 +1,370 @@
+#include <rotorfit/base/input_error.h>
+#include <rotorfit/eigen/prestressed_eigenproblem.h>
+#include <rotorfit/statics/speed_schedule.h>
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/utilities.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <map>
+#include <numeric>
+#include <set>
+#include <sstream>
+
+// PrestressedEigenproblem, part 1: parameters, set-up, the matrices of a
+// speed. Part 2 (the solve and what is set apart): prestressed_solve.cc.
+
+namespace rotorfit
+{
+  using namespace dealii;
+
+  PrestressedEigenproblem::PrestressedEigenproblem(const Discretization &model,
+                                                   Log                  &log,
+                                                   TimerOutput          &timer)
+    : model(model)
+    , log(log)
+    , timer(timer)
+    , comm(model.mpi_communicator())
+  {}
+
+  void
+  PrestressedEigenproblem::declare_parameters(ParameterHandler &prm)
+  {
+    Bearings::declare_list(prm);
+    DampedEigensolver::declare_parameters(prm);
+    prm.enter_subsection("Eigenproblem");
+    prm.declare_entry("Compute modes",
+                      "true",
+                      Patterns::Bool(),
+                      "Solve the damped eigenproblem at every speed (false: "
+                      "static sweep only).");
+    prm.declare_entry("Number of modes",
+                      "12",
+                      Patterns::Integer(1),
+                      "Elastic whirl modes wanted per speed (each conjugate "
+                      "pair once); rigid-body modes are requested on top.");
+    prm.declare_entry("Contact model",
+                      "bonded",
+                      Patterns::Selection("bonded|frictionless|fixed|frozen"),
+                      "Interface in the eigenproblem: 'bonded' ties the closed "
+                      "pairs of the current static state in all directions; "
+                      "'frictionless' ties them radially only (refused with "
+                      "stress stiffening: spurious twist and tilt modes); "
+                      "'fixed' ties every pair whatever the static state (the "
+                      "frozen model of commercial codes); 'frozen' keeps the "
+                      "first speed's closed pairs.");
+    prm.declare_entry("Contact penalty scale",
+                      "1000",
+                      Patterns::Double(100., 1e8),
+                      "Tie stiffness of a pair in the eigenproblem, times its "
+                      "radial nodal stiffness [-], 100 .. 1e8; 1000 changes frequencies "
+                      "by about 0.1 % against a rigid tie (the error goes as "
+                      "1 / scale: a soft tie would move the modes of the fit "
+                      "by whole percents; above 1e8 Q(sigma) loses its digits).");
+    prm.declare_entry("Stress stiffening",
+                      "interference + centrifugal",
+                      Patterns::Selection("off|interference only|interference + centrifugal"),
+                      "K_sigma from the static stress: 'off'; 'interference "
+                      "only' (the fit's own stress at the current contact "
+                      "state); 'interference + centrifugal', which also adds "
+                      "the convective term -Omega^2 K_theta (they cancel on "
+                      "rigid tilt: both or neither, doc/theory.md 4.3).");
+    prm.declare_entry("Convective stiffness",
+                      "true",
+                      Patterns::Bool(),
+                      "With centrifugal stress stiffening, add -Omega^2 K_theta. "
+                      "'false' only to reproduce codes that add K_sigma alone in "
+                      "the stationary frame: that stiffens rigid tilt by "
+                      "Omega^2 Ip/2 and twist by Omega^2 Ip (doc/theory.md 4.5, P2).");
+    prm.declare_entry("Rigid-body threshold",
+                      "1",
+                      Patterns::Double(0.),
+                      "Modes with |lambda| / 2 pi below this [Hz] are rigid-body "
+                      "modes (or modes of a loose body): listed in "
+                      "rigid_modes.csv, never plotted.");
+    prm.declare_entry("Self-check",
+                      "false",
+                      Patterns::Bool(),
+                      "At the first speed > 0, check the virial identity of "
+                      "K_sigma on rigid tilt and twist and the tilt "
+                      "cancellation with Omega^2 K_theta (doc/theory.md 10e); values "
+                      "in the log and summary.txt.");
+    prm.leave_subsection();
+  }
+
+  void
+  PrestressedEigenproblem::parse_parameters(ParameterHandler  &prm,
+                                            const std::string &prm_directory,
+                                            const bool         spin_softening)
+  {
+    bearings.parse_parameters(prm, prm_directory);
+    eigensolver.parse_parameters(prm);
+    prm.enter_subsection("Eigenproblem");
+    compute  = prm.get_bool("Compute modes");
+    n_wanted = prm.get_integer("Number of modes");
+    const std::string model_name = prm.get("Contact model");
+    contact_model = model_name == "bonded"       ? ContactModel::bonded :
+                    model_name == "frictionless" ? ContactModel::frictionless :
+                    model_name == "fixed"        ? ContactModel::fixed :
+                                                   ContactModel::frozen;
+    contact_scale = prm.get_double("Contact penalty scale");
+    const std::string s = prm.get("Stress stiffening");
+    stiffening = s == "off"               ? StressStiffening::off :
+                 s == "interference only" ? StressStiffening::interference :
+                                            StressStiffening::full;
+    rigid_threshold_hz = prm.get_double("Rigid-body threshold");
+    convective_term    = prm.get_bool("Convective stiffness");
+    self_check         = prm.get_bool("Self-check");
+    prm.leave_subsection();
+
+    // normal-only ties with pre-stress give spurious twist and tilt modes,
+    // some unstable (doc/theory.md 7.4): refuse rather than plot them
+    if (compute && contact_model == ContactModel::frictionless &&
+        stiffening != StressStiffening::off)
+      throw InputError(
+        "Eigenproblem/Contact model = frictionless with Stress stiffening = '" +
+        s + "' produces spurious twist and tilt modes (some unstable) because "
+            "normal-only ties carry no contact geometric stiffness; use "
+            "Contact model = bonded, or Stress stiffening = off.");
+    if (compute && spin_softening && stiffening == StressStiffening::interference)
+      throw InputError("Eigenproblem/Stress stiffening = interference only needs "
+                       "Physics/Spin softening = false (with spin softening "
+                       "the static solution does not split into interference "
+                       "and centrifugal parts).");
+  }
+
+  void
+  PrestressedEigenproblem::setup()
+  {
+    if (!compute)
+      return;
+    const auto &dof_handler = model.dofs();
+    const auto &fe          = dof_handler.get_fe();
+    bearings.setup(model.mesh(), dof_handler);
+
+    body_of_dof.assign(dof_handler.n_dofs(), 0);
+    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        cell->get_dof_indices(dofs);
+        for (const auto d : dofs)
+          body_of_dof[d] = cell->material_id();
+      }
+
+    // one pattern for every matrix: cells, all pairs in all directions (any
+    // contact model), bearing blocks; no static supports (doc/theory.md P7)
+    sparsity.reinit(dof_handler.n_dofs(), dof_handler.n_dofs(), model.locally_owned_dofs());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        cell->get_dof_indices(dofs);
+        for (const auto d : dofs)
+          sparsity.add_entries(d, dofs.begin(), dofs.end());
+      }
+    for (const auto &p : model.pairs().pairs())
+      {
+        std::vector<types::global_dof_index> d(p.shaft_dofs.begin(), p.shaft_dofs.end());
+        d.insert(d.end(), p.hub_dofs.begin(), p.hub_dofs.end());
+        std::sort(d.begin(), d.end());
+        for (const auto i : d)
+          sparsity.add_entries(i, d.begin(), d.end(), true);
+      }
+    bearings.add_sparsity(sparsity);
+    matrices.reinit(model.locally_owned_dofs(), sparsity, comm);
+    for (auto *m : {&bearing_k, &bearing_c, &tangent, &damping, &shifted})
+      matrices.reinit_like(*m);
+
+    // more modes than the model has
+    std::vector<bool>  loose;
+    const std::size_t  n_pairs = model.pairs().pairs().size();
+    const unsigned int zeros   = expected_zero_modes(std::vector<bool>(n_pairs, true), loose);
+    const std::size_t  nev     = 2 * n_wanted + 2 * zeros + 1;
+    // the most eigenvalues a speed may ask for: every fit open (each body
+    // its own rigid group), plus what a retry adds
+    const unsigned int loose_zeros = expected_zero_modes(std::vector<bool>(n_pairs, false), loose);
+    max_nev = 2 * n_wanted + 2 * std::max(zeros, loose_zeros) + 1 + 2 * n_wanted;
+    if (nev + 3 > 2 * dof_handler.n_dofs())
+      throw InputError("Eigenproblem/Number of modes = " + std::to_string(n_wanted) +
+                       " needs " + std::to_string(nev) +
+                       " eigenvalues, but the model has only " +
+                       std::to_string(2 * dof_handler.n_dofs()) +
+                       " (2 x DOFs); ask for fewer modes or refine the mesh.");
+
+    log << "Eigenproblem: " << n_wanted << " modes per speed, contact model "
+        << (contact_model == ContactModel::bonded       ? "bonded" :
+            contact_model == ContactModel::frictionless ? "frictionless" :
+            contact_model == ContactModel::fixed        ? "fixed" : "frozen")
+        << (convective_term ? "" : ", NO convective stiffness (K_sigma alone, for comparison)")
+        << ", stress stiffening "
+        << (stiffening == StressStiffening::off          ? "off" :
+            stiffening == StressStiffening::interference ? "interference only" :
+                                                           "interference + centrifugal")
+        << ", shift " << eigensolver.shift() / (2 * M_PI) << " Hz, "
+        << bearings.size() << " bearing(s)\n";
+    for (const auto &b : bearings.list())
+      log << "  bearing " << b.name << " on " << b.surface << ": area "
+          << b.area * 1e6 << " mm^2 at z = " << b.z << " m, " << b.weight.size()
+          << " weighted nodes, kxx " << b.k[0] << " N/m, cxx " << b.c[0]
+          << " N s/m" << (b.table.empty() ? "" : " (speed table " + b.table_file + ")")
+          << '\n';
+  }
+
+  void
+  PrestressedEigenproblem::assemble_speed_independent_matrices()
+  {
+    if (!compute)
+      return;
+    TimerOutput::Scope t(timer, "eigen: assembly (M, K, G, K_theta)");
+    matrices.assemble(model.dofs(), model.mesh().mapping(), model.bodies());
+  }
+
+  unsigned int
+  PrestressedEigenproblem::expected_zero_modes(const std::vector<bool> &tied,
+                                    std::vector<bool>       &loose_body) const
+  {
+    const unsigned int n_bodies = model.bodies().size();
+    std::vector<unsigned int> group(n_bodies);
+    std::iota(group.begin(), group.end(), 0);
+    const auto find = [&](unsigned int b) {
+      while (group[b] != b)
+        b = group[b];
+      return b;
+    };
+    const auto        &list = model.pairs().pairs();
+    std::set<unsigned int> sliding_hubs;
+    for (unsigned int i = 0; i < list.size(); ++i)
+      if (tied[i])
+        {
+          const unsigned int s = body_of_dof[list[i].shaft_dofs[0]],
+                             h = body_of_dof[list[i].hub_dofs[0]];
+          group[find(h)] = find(s);
+          sliding_hubs.insert(h);
+        }
+    // distinct bearing stations per group decide which rigid motions remain
+    std::map<unsigned int, std::set<long>> stations_of;
+    for (const auto &b : bearings.list())
+      if (!b.dof_x.empty())
+        stations_of[find(body_of_dof[b.dof_x[0]])].insert(std::lround(b.z * 1e6));
+    unsigned int main = find(0), best = 0;
+    for (const auto &[g, s] : stations_of)
+      if (s.size() > best)
+        {
+          best = s.size();
+          main = g;
+        }
+    unsigned int zeros = 0;
+    std::set<unsigned int> groups;
+    loose_body.assign(n_bodies, false);
+    for (unsigned int b = 0; b < n_bodies; ++b)
+      {
+        groups.insert(find(b));
+        loose_body[b] = !stations_of.empty() && find(b) != main;
+      }
+    for (const auto g : groups)
+      {
+        const std::size_t n = stations_of.count(g) ? stations_of[g].size() : 0;
+        zeros += n == 0 ? 6 : n == 1 ? 4 : 2; // axial and twist always free
+      }
+    // normal-only ties leave relative axial sliding and twist (doc/theory.md 7.4)
+    if (contact_model == ContactModel::frictionless)
+      zeros += 2 * sliding_hubs.size();
+    return zeros;
+  }
+
+  void
+  PrestressedEigenproblem::assemble_tangent(const StaticState &state, const std::vector<bool> &tied)
+  {
+    TimerOutput::Scope t(timer, "eigen: tangent (K_sigma, ties, bearings)");
+    if (bearings.speed_dependent() || speeds_done == 0)
+      {
+        bearing_k = 0;
+        bearing_c = 0;
+        bearings.assemble(state.rpm, bearing_k, bearing_c);
+      }
+
+    // K_t = K + K_b + K_c (+ K_sigma (- Omega^2 K_theta))
+    MatCopy(matrices.stiffness, tangent, SAME_NONZERO_PATTERN);
+    MatAXPY(tangent, 1., bearing_k, SAME_NONZERO_PATTERN);
+    if (stiffening != StressStiffening::off)
+      add_stress_stiffness(state);
+    add_contact_ties(state, tied);
+    tangent.compress(VectorOperation::add);
+
+    // C = C_b + Omega G
+    MatCopy(bearing_c, damping, SAME_NONZERO_PATTERN);
+    MatAXPY(damping, SpeedSchedule::rpm_to_rad_per_s(state.rpm), matrices.gyroscopic,
+            SAME_NONZERO_PATTERN);
+  }
+
+  void
+  PrestressedEigenproblem::add_stress_stiffness(const StaticState &state)
+  {
+    const double w             = state.w();
+    const auto  &decomposition = state.decomposition();
+    const auto  &dofs          = model.dofs();
+    const auto  &mapping       = model.mesh().mapping();
+    const auto  &bodies        = model.bodies();
+    const IndexSet all         = complete_index_set(dofs.n_dofs());
+    PETScWrappers::MPI::Vector u(model.locally_owned_dofs(), all, comm);
+    if (decomposition.affine)
+      {
+        // K_sigma is linear in u = u_I + w u_C: two parts per active set
+        if (decomposition.serial != k_sigma_serial)
+          {
+            u = decomposition.u_I;
+            matrices.assemble_stress_stiffness(dofs, mapping, bodies, u, k_sigma_I);
+            u = decomposition.u_C;
+            matrices.assemble_stress_stiffness(dofs, mapping, bodies, u, k_sigma_C);
+            k_sigma_serial = decomposition.serial;
+          }
+        MatAXPY(tangent, 1., k_sigma_I, SAME_NONZERO_PATTERN);
+        if (stiffening == StressStiffening::full)
+          MatAXPY(tangent, w, k_sigma_C, SAME_NONZERO_PATTERN);
+      }
+    else
+      {
+        // the whole solution at this speed (the tangent is exact there)
+        state.displacement(u);
+        matrices.assemble_stress_stiffness(dofs, mapping, bodies, u, k_sigma_I);
+        k_sigma_serial = 0;
+        MatAXPY(tangent, 1., k_sigma_I, SAME_NONZERO_PATTERN);
+      }
+    if (stiffening == StressStiffening::full && convective_term)
+      MatAXPY(tangent, -w, matrices.convective, SAME_NONZERO_PATTERN);
+  }
+
+  void
+  PrestressedEigenproblem::add_contact_ties(const StaticState &state, const std::vector<bool> &tied)
+  {
+    // on the locally owned rows; bonded: eps (u_h - u_s) in every
+    // direction; frictionless: eps n n^T on the radial direction only
+    const auto  &list        = model.pairs().pairs();
+    const double scale       = contact_scale / state.penalty_scale();
+    const auto   range       = tangent.local_range();
+    const bool   normal_only = contact_model == ContactModel::frictionless;
+    for (unsigned int i = 0; i < list.size(); ++i)
+      if (tied[i])
+        {
+          const auto  &p   = list[i];
+          const double eps = state.pair_penalty(i) * scale;
+          for (unsigned int a = 0; a < 3; ++a)
+            for (unsigned int c = 0; c < 3; ++c)
+              {
+                double k = normal_only ? (a < 2 && c < 2 ? p.normal[a] * p.normal[c] : 0.) :
+                                         (a == c ? 1. : 0.);
+                if (k == 0)
+                  continue;
+                k *= eps;
+                const std::pair<types::global_dof_index, double> rows[2] = {
+                  {p.hub_dofs[a], 1.}, {p.shaft_dofs[a], -1.}};
+                const std::pair<types::global_dof_index, double> cols[2] = {
+                  {p.hub_dofs[c], 1.}, {p.shaft_dofs[c], -1.}};
+                for (const auto &[r, sr] : rows)
+                  if (r >= range.first && r < range.second)
+                    for (const auto &[col, sc] : cols)
+                      tangent.add(r, col, sr * sc * k);
+              }
+        }
+  }
+} // namespace rotorfit

@@ -1,0 +1,272 @@
+#include <rotorfit/base/input_error.h>
+#include <rotorfit/eigen/prestressed_eigenproblem.h>
+#include <rotorfit/statics/speed_schedule.h>
+
+#include <deal.II/base/mpi.h>
+
+#include <cmath>
+#include <functional>
+#include <iomanip>
+#include <numeric>
+#include <sstream>
+
+// PrestressedEigenproblem, part 2: the solve of a speed, what is set apart
+// from the elastic modes, the self-checks and the totals. Part 1
+// (parameters, set-up, matrices): prestressed_eigenproblem.cc.
+
+namespace rotorfit
+{
+  using namespace dealii;
+
+  std::vector<bool>
+  PrestressedEigenproblem::tied_pairs(const StaticState &state)
+  {
+    switch (contact_model)
+      {
+        case ContactModel::bonded:
+        case ContactModel::frictionless:
+          return state.contact.active;
+        case ContactModel::fixed:
+          return std::vector<bool>(model.pairs().pairs().size(), true);
+        case ContactModel::frozen:
+          if (frozen_active.empty())
+            frozen_active = state.contact.active;
+          return frozen_active;
+      }
+    return {};
+  }
+
+  EigenSolution
+  PrestressedEigenproblem::solve(const StaticState &state)
+  {
+    EigenSolution solution;
+    solution.rpm   = state.rpm;
+    solution.index = state.index;
+    solution.tied  = tied_pairs(state);
+    assemble_tangent(state, solution.tied);
+    if (self_check && checks.empty() && state.rpm > 0)
+      matrix_checks(state);
+    std::vector<bool>  loose_body;
+    const unsigned int zeros = expected_zero_modes(solution.tied, loose_body);
+    unsigned int       nev   = 2 * n_wanted + 2 * zeros + 1;
+
+    unsigned int                  unconverged = 0;
+    double                        worst       = 0;
+    DampedEigensolver::Statistics stats;
+    // a second attempt on the same factorisation with twice the Krylov
+    // space and restarts (and room for the modes that were missing); then
+    // the run stops: a Campbell diagram with a missing line is wrong
+    for (unsigned int attempt = 0;; ++attempt)
+      {
+        std::vector<EigenPair> pairs;
+        {
+          TimerOutput::Scope t(timer, "eigen: factorisation + ARPACK");
+          pairs = eigensolver.solve(matrices.mass, damping, tangent, shifted, nev, stats, attempt);
+        }
+        TimerOutput::Scope t(timer, "eigen: post-processing + output");
+        unconverged = stats.unconverged_slots;
+        if (sort_eigenpairs(pairs, loose_body, solution, unconverged, worst))
+          break;
+        unsigned int n_rigid = 0, n_loose = 0, n_overdamped = 0;
+        for (const auto &r : solution.rigid)
+          (r.kind == "loose" ? n_loose : r.kind == "rigid" ? n_rigid : n_overdamped) +=
+            (r.lambda.imag() != 0 ? 2 : 1);
+        std::ostringstream m;
+        m << "at " << state.rpm << " r/min: " << solution.elastic.size()
+          << " elastic modes converged (" << n_wanted << " wanted; " << stats.unconverged_slots
+          << " ARPACK slots unconverged, " << unconverged - stats.unconverged_slots
+          << " eigenpairs with a backward error above Eigenproblem/Backward error limit = "
+          << eigensolver.backward_error_limit() << ", worst " << std::setprecision(3) << worst
+          << "; " << n_rigid << " rigid, " << n_loose << " loose-body, " << n_overdamped
+          << " overdamped) with " << stats.requested << " eigenvalues, Krylov size "
+          << stats.krylov_size << ", at most " << stats.max_restarts << " restarts";
+        const unsigned int more =
+          2 * (n_wanted - std::min<unsigned int>(n_wanted, solution.elastic.size()));
+        if (attempt == 0 && nev + more + 3 <= 2 * model.dofs().n_dofs())
+          {
+            nev += more;
+            ++retried_speeds;
+            log << "  eigen: retry " << m.str() << "; again with twice the Krylov space\n";
+            continue;
+          }
+        throw SolverFailure(state.rpm,
+                            "the eigensolver did not converge " + m.str() +
+                              (attempt > 0 ? " (after one retry with twice the Krylov space)" :
+                                             " (no retry: the model has too few DOFs for more "
+                                             "eigenvalues)") +
+                              "; raise Eigenproblem/Maximum restarts or Krylov size factor, or "
+                              "move the Shift");
+      }
+    log_speed(solution, stats, worst);
+    if (solution.elastic.size() > n_wanted)
+      solution.elastic.resize(n_wanted);
+    announce_loose_bodies(state, loose_body);
+    worst_backward_error = std::max(worst_backward_error, worst);
+    ++speeds_done;
+    return solution;
+  }
+
+  bool
+  PrestressedEigenproblem::sort_eigenpairs(std::vector<EigenPair>  &pairs,
+                                           const std::vector<bool> &loose_body,
+                                           EigenSolution           &solution,
+                                           unsigned int            &unconverged,
+                                           double                  &worst) const
+  {
+    const auto &bodies = model.bodies();
+    solution.elastic.clear();
+    solution.rigid.clear();
+    worst = 0;
+    for (auto &p : pairs)
+      {
+        if (std::isnan(p.backward_error) ||
+            (!std::isnan(worst) && p.backward_error > worst)) // NaN sticks
+          worst = p.backward_error;
+        if (!(p.backward_error <= eigensolver.backward_error_limit()))
+          {
+            ++unconverged;
+            continue;
+          }
+        // kinetic energy share per body: M is block diagonal by body
+        std::vector<double> energy(bodies.size(), 0.);
+        for (std::size_t i = 0; i < p.phi.re.size(); ++i)
+          energy[body_of_dof[i]] += p.phi.re[i] * p.m_phi.re[i] + p.phi.im[i] * p.m_phi.im[i];
+        const double       total = std::accumulate(energy.begin(), energy.end(), 0.);
+        const unsigned int dominant =
+          std::max_element(energy.begin(), energy.end()) - energy.begin();
+        const bool in_loose_body = loose_body[dominant] && energy[dominant] > 0.9 * total;
+        const bool rigid_mode    = std::abs(p.lambda) < 2 * M_PI * rigid_threshold_hz;
+        const bool real_mode     = p.lambda.imag() == 0;
+        if (rigid_mode || real_mode || in_loose_body)
+          solution.rigid.push_back({in_loose_body ? "loose" :
+                                    rigid_mode    ? "rigid" :
+                                                    "overdamped",
+                                    in_loose_body ? bodies[dominant].name : "assembly",
+                                    p.lambda,
+                                    p.backward_error});
+        else
+          solution.elastic.push_back(std::move(p));
+      }
+    return unconverged == 0 && solution.elastic.size() >= n_wanted;
+  }
+
+  void
+  PrestressedEigenproblem::log_speed(const EigenSolution                 &solution,
+                                     const DampedEigensolver::Statistics &stats,
+                                     const double                         worst) const
+  {
+    // counted as state-space eigenvalues: a rigid motion is a double zero
+    // that round-off splits into a tiny conjugate pair (one row) or two
+    // tiny real values (two rows)
+    unsigned int n_rigid = 0, n_loose = 0, n_overdamped = 0;
+    for (const auto &r : solution.rigid)
+      (r.kind == "loose" ? n_loose : r.kind == "rigid" ? n_rigid : n_overdamped) +=
+        (r.lambda.imag() != 0 ? 2 : 1);
+    const auto        &elastic = solution.elastic;
+    std::ostringstream line;
+    line << "  eigen: " << elastic.size() << " whirl modes";
+    if (!elastic.empty())
+      line << " " << std::setprecision(5) << elastic.front().lambda.imag() / (2 * M_PI)
+           << " .. " << elastic.back().lambda.imag() / (2 * M_PI) << " Hz";
+    line << ", " << n_rigid << " rigid, " << n_loose << " loose-body, " << n_overdamped
+         << " overdamped (state-space eigenvalues); nev " << stats.requested << ", Krylov "
+         << stats.krylov_size << ", " << stats.iterations << " restarts, "
+         << stats.operator_applications << " solves, max backward error "
+         << std::setprecision(2) << worst << "; " << std::setprecision(3)
+         << stats.factorization_seconds << " s LU, " << stats.arnoldi_seconds
+         << " s Arnoldi (" << stats.solve_seconds << " s back-substitutions), "
+         << stats.check_seconds << " s checks\n";
+    log << line.str();
+  }
+
+  void
+  PrestressedEigenproblem::announce_loose_bodies(const StaticState       &state,
+                                                 const std::vector<bool> &loose_body)
+  {
+    if (state.fit_state != "open" || contact_model == ContactModel::fixed ||
+        contact_model == ContactModel::frozen || announced_loose)
+      return;
+    announced_loose = true;
+    std::string names;
+    for (unsigned int b = 0; b < model.bodies().size(); ++b)
+      if (loose_body[b])
+        names += (names.empty() ? "" : ", ") + model.bodies()[b].name;
+    log << "  note: a fit is fully open at " << state.rpm << " r/min: "
+        << (names.empty() ? "the assembly falls apart" : "body " + names + " is loose")
+        << "; from here on the whirl lines are not assembly modes (fit_state = "
+           "open in campbell.csv), loose-body modes go to rigid_modes.csv\n";
+  }
+
+  void
+  PrestressedEigenproblem::matrix_checks(const StaticState &state)
+  {
+    // On linear fields (exact in the FE space) the virial identity
+    // int sigma dV = Omega^2 int rho P x (x) x dV makes w^T K_sigma w equal
+    // Omega^2 int rho y^2 for the tilt w = e_x (x) x and Omega^2 w^T K_theta w
+    // for the twist w = e_z x x, to round-off with reaction-free supports;
+    // the tilt cancellation against Omega^2 K_theta is exact only on
+    // rotationally symmetric meshes (doc/theory.md 10e-3/4).
+    const double w             = state.w();
+    const auto  &decomposition = state.decomposition();
+    if (!decomposition.affine || stiffening != StressStiffening::full)
+      return;
+    PETScWrappers::MPI::SparseMatrix k_sigma;
+    matrices.reinit_like(k_sigma);
+    MatCopy(k_sigma_I, k_sigma, SAME_NONZERO_PATTERN);
+    MatAXPY(k_sigma, w, k_sigma_C, SAME_NONZERO_PATTERN);
+
+    const auto &points = model.support_points();
+    const auto &fe     = model.dofs().get_fe();
+    std::vector<unsigned int> component(points.size());
+    {
+      std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+      for (const auto &cell : model.dofs().active_cell_iterators())
+        {
+          cell->get_dof_indices(dofs);
+          for (unsigned int i = 0; i < dofs.size(); ++i)
+            component[dofs[i]] = fe.system_to_component_index(i).first;
+        }
+    }
+    const auto field = [&](const std::function<Tensor<1, 3>(const Point<3> &)> &f) {
+      Vector<double> v(points.size());
+      for (std::size_t i = 0; i < points.size(); ++i)
+        v[i] = f(points[i])[component[i]];
+      return v;
+    };
+    const auto energy = [&](const PETScWrappers::MPI::SparseMatrix &A, const Vector<double> &v) {
+      Vector<double> Av;
+      replicated_vmult(A, v, Av);
+      return v * Av;
+    };
+    const Vector<double> tilt  = field([](const Point<3> &x) { return Tensor<1, 3>({0., -x[2], x[1]}); });
+    const Vector<double> twist = field([](const Point<3> &x) { return Tensor<1, 3>({-x[1], x[0], 0.}); });
+    const Vector<double> y_in_x = field([](const Point<3> &x) { return Tensor<1, 3>({x[1], 0., 0.}); });
+    const double s_tilt = energy(k_sigma, tilt), t_tilt = energy(matrices.convective, tilt);
+    const double s_twist = energy(k_sigma, twist), t_twist = energy(matrices.convective, twist);
+    const double yy = energy(matrices.mass, y_in_x);
+    checks.emplace_back("check.speed_rpm", state.rpm);
+    checks.emplace_back("check.tilt_virial", s_tilt / (w * yy));
+    checks.emplace_back("check.twist_virial", s_twist / (w * t_twist));
+    checks.emplace_back("check.tilt_cancellation", (s_tilt - w * t_tilt) / (w * t_tilt));
+    log << "  self-check at " << state.rpm << " r/min: w^T K_sigma w / (Omega^2 int rho y^2) = "
+        << std::setprecision(12) << checks[1].second << " (tilt), "
+        << checks[2].second << " (twist, against Omega^2 w^T K_theta w); tilt "
+        << "cancellation error " << std::setprecision(3) << checks[3].second << '\n';
+  }
+
+  void
+  PrestressedEigenproblem::finish(Summary &summary) const
+  {
+    if (!compute || speeds_done == 0)
+      return;
+    for (const auto &[key, value] : checks)
+      summary.add(key, value, 12);
+    summary.add("eigen.speeds", speeds_done);
+    summary.add("eigen.worst_backward_error", worst_backward_error, 12);
+    summary.add("eigen.retried_speeds", retried_speeds);
+    summary.add("eigen.workspace_retries", eigensolver.linear_solver().n_workspace_retries());
+    log << "Eigenproblem: " << speeds_done << " speeds, "
+        << eigensolver.linear_solver().n_factorizations() << " factorisations of Q(sigma), "
+        << "worst backward error " << worst_backward_error << '\n';
+  }
+} // namespace rotorfit

@@ -1,0 +1,77 @@
+#include <rotorfit/base/input_error.h>
+#include <rotorfit/modal/modal_analysis.h>
+
+#include <deal.II/base/utilities.h>
+
+namespace rotorfit
+{
+  using namespace dealii;
+
+  void
+  ModalAnalysis::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Eigenproblem");
+    prm.declare_entry("Whirl stations",
+                      "10",
+                      Patterns::Integer(1),
+                      "Axial slices whose mass-averaged lateral motion decides "
+                      "forward / backward whirl.");
+    prm.declare_entry("MAC threshold",
+                      "0.8",
+                      Patterns::Double(0., 1.),
+                      "Least mass-weighted MAC for a mode to continue a line "
+                      "of the previous speed.");
+    prm.declare_entry("Excitation orders",
+                      "1",
+                      Patterns::List(Patterns::Integer(1)),
+                      "Orders k of the k X lines whose crossings are critical "
+                      "speeds.");
+    prm.leave_subsection();
+  }
+
+  void
+  ModalAnalysis::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Eigenproblem");
+    n_stations    = prm.get_integer("Whirl stations");
+    mac_threshold = prm.get_double("MAC threshold");
+    const auto list = Utilities::split_string_list(prm.get("Excitation orders"), ',');
+    check_unique(list, "Eigenproblem/Excitation orders");
+    orders.clear();
+    for (const auto &o : list)
+      orders.push_back(Utilities::string_to_int(o));
+    prm.leave_subsection();
+    tracker = ModeTracker(orders, mac_threshold);
+  }
+
+  void
+  ModalAnalysis::setup(const Discretization &model)
+  {
+    stations.build(model, n_stations);
+  }
+
+  const ModalResult &
+  ModalAnalysis::analyse(EigenSolution &&solution)
+  {
+    result       = ModalResult();
+    result.rpm   = solution.rpm;
+    result.index = solution.index;
+    result.rigid = std::move(solution.rigid);
+    result.tied  = std::move(solution.tied);
+    for (auto &pair : solution.elastic)
+      result.modes.emplace_back(std::move(pair));
+    stations.separate_degenerate_pairs(result.modes);
+    for (auto &m : result.modes)
+      stations.classify(m);
+    result.crossings = tracker.track(result.rpm, result.modes);
+    n_critical += result.crossings.size();
+    return result;
+  }
+
+  void
+  ModalAnalysis::finish(Summary &summary) const
+  {
+    summary.add("eigen.critical_speeds", n_critical);
+    log << "Critical speeds: " << n_critical << " crossing(s) in critical_speeds.csv\n";
+  }
+} // namespace rotorfit

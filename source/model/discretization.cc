@@ -1,0 +1,146 @@
+#include <rotorfit/base/input_error.h>
+#include <rotorfit/constraints/cylindrical_constraints.h>
+#include <rotorfit/model/discretization.h>
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/quadrature.h>
+#include <deal.II/base/utilities.h>
+
+#include <deal.II/fe/fe_simplex_p.h>
+#include <deal.II/fe/fe_values.h>
+
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace rotorfit
+{
+  using namespace dealii;
+
+  Discretization::Discretization(const MPI_Comm comm, Log &log)
+    : comm(comm)
+    , log(log)
+    , assembly_mesh(comm)
+  {}
+
+  void
+  Discretization::declare_parameters(ParameterHandler &prm)
+  {
+    AssemblyMesh::declare_parameters(prm);
+    Bodies::declare_list(prm);
+    ContactInterfaces::declare_list(prm);
+    prm.enter_subsection("Supports");
+    prm.declare_entry("Axial roller surfaces",
+                      "",
+                      Patterns::List(Patterns::Anything(), 0),
+                      "Physical surfaces with u_z = 0 (for plane-strain "
+                      "verification set-ups). Every body is also held by "
+                      "statically determinate cylindrical supports.");
+    prm.leave_subsection();
+  }
+
+  void
+  Discretization::parse_parameters(ParameterHandler &prm, const std::string &prm_directory)
+  {
+    assembly_mesh.parse_parameters(prm, prm_directory);
+    body_list.parse_parameters(prm);
+    interface_list.parse_parameters(prm);
+    prm.enter_subsection("Supports");
+    rollers = Utilities::split_string_list(prm.get("Axial roller surfaces"), ',');
+    check_unique(rollers, "Supports/Axial roller surfaces");
+    prm.leave_subsection();
+  }
+
+  void
+  Discretization::setup(TimerOutput &timer)
+  {
+    {
+      TimerOutput::Scope t(timer, "mesh (gmsh + triangulation)");
+      assembly_mesh.create(body_list.physical_volumes());
+    }
+    TimerOutput::Scope t(timer, "setup (DoFs, pairs, constraints)");
+    fe = std::make_unique<FESystem<3>>(FE_SimplexP<3>(assembly_mesh.element_order()), 3);
+    dof_handler.reinit(assembly_mesh.triangulation());
+    dof_handler.distribute_dofs(*fe);
+    owned = dof_handler.locally_owned_dofs();
+    compute_support_points();
+
+    contact_pairs.build(assembly_mesh, dof_handler, points, interface_list.list());
+    std::vector<std::string> body_names;
+    for (const auto &b : body_list.list())
+      body_names.push_back(b.name);
+    constraints.clear();
+    const std::string description = make_cylindrical_constraints(
+      assembly_mesh, dof_handler, points, body_names, rollers, constraints);
+    constraints.close();
+
+    log << "Mesh: " << assembly_mesh.triangulation().n_global_active_cells()
+        << " tetrahedra, " << dof_handler.n_dofs() << " DOFs (P"
+        << assembly_mesh.element_order() << ", quadratic geometry), "
+        << Utilities::MPI::n_mpi_processes(comm) << " MPI rank(s)\n";
+    for (unsigned int i = 0; i < contact_pairs.n_interfaces(); ++i)
+      log << "Interface " << interface_list.list()[i].name << ": "
+          << contact_pairs.pairs_of(i).size() << " node pairs, area "
+          << contact_pairs.area(i) * 1e6 << " mm^2, radial interference "
+          << interface_list.list()[i].interference * 1e6 << " um\n";
+    log << "Static supports:\n" << description;
+    check_interference();
+  }
+
+  double
+  Discretization::outer_radius() const
+  {
+    double r_max = 0;
+    for (const auto &p : points)
+      r_max = std::max(r_max, std::hypot(p[0], p[1]));
+    return r_max;
+  }
+
+  void
+  Discretization::check_interference() const
+  {
+    // The model is linear elastic in small strain: the interference is a
+    // strain delta / r of the fit. Metals leave their elastic range at
+    // strains of 0.1 .. 0.5 %; at 1 % the small-strain model itself fails.
+    for (unsigned int f = 0; f < contact_pairs.n_interfaces(); ++f)
+      {
+        double r = 0;
+        for (const auto i : contact_pairs.pairs_of(f))
+          r += std::hypot(contact_pairs.pairs()[i].position[0],
+                          contact_pairs.pairs()[i].position[1]);
+        r /= std::max<std::size_t>(1, contact_pairs.pairs_of(f).size());
+        const auto  &d      = interface_list.list()[f];
+        const double strain = d.interference / r;
+        std::ostringstream m;
+        m << "Interface " << d.name << "/Radial interference = " << d.interference
+          << " m is " << std::setprecision(3) << 100 * strain << " % of the fit radius "
+          << r * 1e3 << " mm";
+        if (strain > 1e-2)
+          throw InputError(m.str() + "; rotorfit's linear small-strain model holds below 1 % "
+                                     "(metals yield at 0.1 .. 0.5 %). Check the units (metres, "
+                                     "on the radius).");
+        if (strain > 2e-3)
+          log << "Warning: " << m.str()
+              << ": above the elastic limit strain of most shaft and hub alloys (about "
+                 "0.2 %); the fit may yield, which a linear elastic model does not see.\n";
+      }
+  }
+
+  void
+  Discretization::compute_support_points()
+  {
+    // support points through the curved mapping: pairs and supports must
+    // see the same geometry as the integrals
+    points.assign(dof_handler.n_dofs(), Point<3>());
+    const Quadrature<3> q(fe->get_unit_support_points());
+    FEValues<3> fe_values(assembly_mesh.mapping(), *fe, q, update_quadrature_points);
+    std::vector<types::global_dof_index> dofs(fe->n_dofs_per_cell());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        fe_values.reinit(cell);
+        cell->get_dof_indices(dofs);
+        for (unsigned int i = 0; i < dofs.size(); ++i)
+          points[dofs[i]] = fe_values.quadrature_point(i);
+      }
+  }
+} // namespace rotorfit

@@ -1,0 +1,119 @@
+#include <rotorfit/output/tables.h>
+
+#include <iomanip>
+
+namespace rotorfit
+{
+  void
+  CsvTable::create(const std::string &path, const char *header, const int digits)
+  {
+    file.open(path);
+    file << header << '\n' << std::setprecision(digits) << std::flush;
+  }
+
+  void
+  ContactTable::open(const std::string &directory)
+  {
+    create(directory + "/contact.csv", "speed_rpm,interface,closed_pairs,total_pairs,contact_fraction,"
+           "mean_pressure_Pa,max_pressure_Pa,constraint_error,"
+           "active_set_iterations,uzawa_iterations,factorizations,"
+           "low_rank_updates,converged,first_opening_rpm,loss_of_fit_rpm,"
+           "asymmetry,status", 8);
+  }
+
+  void
+  ContactTable::add(const StaticState &state)
+  {
+    if (!file.is_open())
+      return;
+    const auto &c = state.contact;
+    for (const auto &row : state.interfaces)
+      file << state.rpm << ',' << row.name << ',' << row.closed_pairs << ',' << row.total_pairs
+           << ',' << row.contact_fraction << ',' << row.mean_pressure << ','
+           << row.max_pressure << ',' << row.constraint_error << ','
+           << c.active_set_iterations << ',' << c.uzawa_iterations << ','
+           << c.factorizations << ',' << c.low_rank_updates << ','
+           << (row.status == "ok" ? 1 : 0) << ',' << row.first_opening_rpm << ','
+           << row.loss_of_fit_rpm << ',' << row.asymmetry << ',' << row.status << '\n';
+    file << std::flush;
+  }
+
+  void
+  PairOpeningTable::open(const std::string &directory)
+  {
+    create(directory + "/pair_openings.csv", "interface,x_m,y_m,z_m,opening_rpm,from_rpm,to_rpm", 8);
+  }
+
+  void
+  PairOpeningTable::add(const StaticState &state)
+  {
+    if (!file.is_open())
+      return;
+    for (const auto &o : state.openings)
+      file << o.interface << ',' << o.position[0] << ',' << o.position[1] << ','
+           << o.position[2] << ',' << o.opening_rpm << ',' << o.from_rpm << ',' << o.to_rpm
+           << '\n';
+    file << std::flush;
+  }
+
+  void
+  CampbellTable::open(const std::string &directory)
+  {
+    create(directory + "/campbell.csv", "speed_rpm,mode,tracked_id,whirl,frequency_hz,damping_ratio,"
+           "log_dec,stable,backward_error,fit_state,static_converged,contact_asymmetry", 10);
+  }
+
+  void
+  CampbellTable::add(const StaticState &state, const ModalResult &modes)
+  {
+    if (!file.is_open())
+      return;
+    for (unsigned int b = 0; b < modes.modes.size(); ++b)
+      {
+        const WhirlMode &m      = modes.modes[b];
+        const double     zeta   = -m.lambda.real() / std::abs(m.lambda);
+        const double     logdec = -2 * M_PI * m.lambda.real() / m.lambda.imag();
+        file << modes.rpm << ',' << b + 1 << ',' << m.tracked_id << ',' << m.whirl << ','
+             << m.frequency_hz() << ',' << zeta << ',' << logdec << ','
+             // undamped modes (Re = 0 up to round-off) count as stable
+             << (m.lambda.real() <= 1e-8 * std::abs(m.lambda) ? 1 : 0) << ','
+             << m.backward_error << ',' << state.fit_state << ','
+             << (state.converged() ? 1 : 0) << ',' << state.contact.asymmetry << '\n';
+      }
+    file << std::flush;
+  }
+
+  void
+  CriticalSpeedTable::open(const std::string &directory)
+  {
+    create(directory + "/critical_speeds.csv", "tracked_id,whirl,order,speed_rpm,frequency_hz", 10);
+  }
+
+  void
+  CriticalSpeedTable::add(const ModalResult &modes)
+  {
+    if (!file.is_open())
+      return;
+    for (const auto &c : modes.crossings)
+      file << c.tracked_id << ',' << c.whirl << ',' << c.order << ',' << c.rpm << ','
+           << c.frequency_hz << '\n';
+    file << std::flush;
+  }
+
+  void
+  RigidModeTable::open(const std::string &directory)
+  {
+    create(directory + "/rigid_modes.csv", "speed_rpm,kind,body,real_part_per_s,frequency_hz,backward_error", 10);
+  }
+
+  void
+  RigidModeTable::add(const ModalResult &modes)
+  {
+    if (!file.is_open())
+      return;
+    for (const auto &r : modes.rigid)
+      file << modes.rpm << ',' << r.kind << ',' << r.body << ',' << r.lambda.real() << ','
+           << r.lambda.imag() / (2 * M_PI) << ',' << r.backward_error << '\n';
+    file << std::flush;
+  }
+} // namespace rotorfit

@@ -1,0 +1,129 @@
+#include <rotorfit/base/format.h>
+#include <rotorfit/base/input_error.h>
+#include <rotorfit/base/run_control.h>
+#include <rotorfit/problem/rotor_problem.h>
+
+#include <deal.II/base/mpi.h>
+
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+// RotorProblem, part 1: the run. Part 2 (parameters, set-up and the input
+// checks that need the mesh): rotor_problem_setup.cc.
+
+namespace rotorfit
+{
+  using namespace dealii;
+
+  void
+  RotorProblem::run()
+  {
+    assemble_speed_independent_matrices();
+    const auto &rpm = speeds.speeds_rpm();
+    for (unsigned int k = 0; k < rpm.size(); ++k)
+      {
+        run_control::stop_if_interrupted(comm, "before " + format_number(rpm[k]) + " r/min");
+        current_step = k;
+
+        const StaticState &state = statics.solve(rpm[k], k);
+        {
+          TimerOutput::Scope t(timer, "output (tables, ParaView)");
+          results.add(state);
+        }
+        if (eigen.enabled())
+          {
+            // the eigenproblem's LU needs the memory more than the next
+            // active-set change needs the static one (at most one more
+            // factorisation per speed where the contact changes)
+            statics.release_factorization();
+            EigenSolution      solution = eigen.solve(state);
+            TimerOutput::Scope t(timer, "modal analysis + output");
+            results.add(state, modal.analyse(std::move(solution)));
+            ++modal_steps;
+          }
+
+        finished_steps = k + 1;
+        log_speed(state);
+        if (stop_on_loss_of_fit && statics.every_fit_open())
+          {
+            log << "Every fit is fully open: the sweep stops here (Contact/On "
+                   "loss of fit = stop).\n";
+            break;
+          }
+      }
+  }
+
+  void
+  RotorProblem::assemble_speed_independent_matrices()
+  {
+    sweep_start = std::chrono::steady_clock::now();
+    statics.assemble(std::pow(SpeedSchedule::rpm_to_rad_per_s(speeds.speeds_rpm().back()), 2));
+    eigen.assemble_speed_independent_matrices();
+    results.open(model, eigen.enabled());
+    assembled = true;
+  }
+
+  void
+  RotorProblem::log_speed(const StaticState &state)
+  {
+    const auto &c = state.contact;
+    std::ostringstream line;
+    for (const auto &row : state.interfaces)
+      line << ' ' << row.name << ' ' << row.closed_pairs << '/' << row.total_pairs
+           << " closed, p_mean " << std::setprecision(4) << row.mean_pressure / 1e6
+           << " MPa, error " << std::setprecision(2) << row.constraint_error << ';';
+    const std::size_t n_speeds = speeds.speeds_rpm().size();
+    const double      elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - sweep_start).count();
+    const double eta = elapsed / finished_steps * (n_speeds - finished_steps);
+    log << '[' << finished_steps << '/' << n_speeds << "] " << state.rpm << " r/min:"
+        << line.str() << " iterations " << c.active_set_iterations << '/' << c.uzawa_iterations
+        << '/' << c.factorizations << '/' << c.low_rank_updates
+        << " (active set/Uzawa/factorisations/low-rank updates); " << std::fixed
+        << std::setprecision(1) << elapsed << " s, ETA " << eta << " s" << std::defaultfloat
+        << std::setprecision(6) << '\n';
+  }
+
+  void
+  RotorProblem::finish(const std::string &status,
+                       const int          exit_code,
+                       const std::string &where,
+                       const std::string &message)
+  {
+    Summary summary;
+    if (assembled)
+      {
+        statics.finish(summary);
+        eigen.finish(summary);
+        if (modal_steps > 0)
+          modal.finish(summary);
+      }
+    summary.add("run.status", status);
+    summary.add("run.exit_code", exit_code);
+    if (!where.empty())
+      summary.add("run.stopped_at", where);
+    if (!message.empty())
+      summary.add("run.message", message);
+    results.finish(summary, modal_steps > 0);
+    if (assembled)
+      {
+        timer.print_summary();
+        log << timer_stream.str();
+      }
+  }
+
+  std::string
+  RotorProblem::progress() const
+  {
+    if (current_step < 0)
+      return "during set-up";
+    const auto &rpm = speeds.speeds_rpm();
+    if (finished_steps == static_cast<unsigned int>(current_step) + 1)
+      return "after " + format_number(rpm[current_step]) + " r/min (" + std::to_string(finished_steps) +
+             " of " + std::to_string(rpm.size()) + " speeds finished)";
+    return "at " + format_number(rpm[current_step]) + " r/min (speed " +
+           std::to_string(current_step + 1) + " of " + std::to_string(rpm.size()) + "; " +
+           std::to_string(finished_steps) + " speeds finished)";
+  }
+} // namespace rotorfit

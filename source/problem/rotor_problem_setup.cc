@@ -1,0 +1,166 @@
+#include <rotorfit/base/input_error.h>
+#include <rotorfit/base/resources.h>
+#include <rotorfit/problem/rotor_problem.h>
+
+#include <deal.II/base/mpi.h>
+
+#include <algorithm>
+#include <iomanip>
+#include <map>
+#include <sstream>
+
+// RotorProblem, part 2: parameters, set-up and the input checks that need
+// the whole model. Part 1 (the run): rotor_problem.cc.
+
+namespace rotorfit
+{
+  using namespace dealii;
+
+  RotorProblem::RotorProblem(const MPI_Comm comm, Log &log)
+    : comm(comm)
+    , log(log)
+    , timer(timer_stream, TimerOutput::never, TimerOutput::wall_times)
+    , model(comm, log)
+    , statics(model, log, timer)
+    , eigen(model, log, timer)
+    , modal(log)
+    , results(comm, log)
+  {}
+
+  void
+  RotorProblem::declare_parameters(ParameterHandler               &prm,
+                                   const std::vector<std::string> &bodies,
+                                   const std::vector<std::string> &interfaces,
+                                   const std::vector<std::string> &bearings)
+  {
+    Discretization::declare_parameters(prm);
+    SpeedSchedule::declare_parameters(prm);
+    StaticProblem::declare_parameters(prm);
+    PrestressedEigenproblem::declare_parameters(prm);
+    ModalAnalysis::declare_parameters(prm);
+    Results::declare_parameters(prm);
+    Bodies::declare_parameters(prm, bodies);
+    ContactInterfaces::declare_parameters(prm, interfaces);
+    Bearings::declare_parameters(prm, bearings);
+    prm.enter_subsection("Contact");
+    prm.declare_entry("On loss of fit",
+                      "continue",
+                      Patterns::Selection("continue|stop"),
+                      "What the sweep does once every interface is fully "
+                      "open: 'continue' (loose bodies held by their "
+                      "cylindrical supports) or 'stop'.");
+    prm.leave_subsection();
+  }
+
+  void
+  RotorProblem::parse_parameters(ParameterHandler  &prm,
+                                 const std::string &prm_directory,
+                                 const std::string &output_override)
+  {
+    model.parse_parameters(prm, prm_directory);
+    speeds.parse_parameters(prm);
+    statics.parse_parameters(prm);
+    eigen.parse_parameters(prm, prm_directory, statics.spin_softening_on());
+    modal.parse_parameters(prm);
+    results.parse_parameters(prm, output_override);
+    prm.enter_subsection("Contact");
+    stop_on_loss_of_fit = prm.get("On loss of fit") == "stop";
+    prm.leave_subsection();
+    check_surface_use();
+  }
+
+  void
+  RotorProblem::setup()
+  {
+    model.setup(timer);
+    check_tip_speed();
+    eigen.setup();
+    if (eigen.enabled())
+      modal.setup(model);
+    check_resources();
+  }
+
+  void
+  RotorProblem::check_surface_use() const
+  {
+    // two interfaces on one surface halve the contact pressure, two
+    // bearings on one face double the stiffness: refused. An axial roller
+    // on a fit surface is legitimate for verification set-ups: warned.
+    std::map<std::string, std::string> owner; // surface -> first feature
+    const auto claim = [&](const std::string &surface, const std::string &feature,
+                           const std::string &fix) {
+      const auto [it, inserted] = owner.emplace(surface, feature);
+      if (!inserted && it->second != feature)
+        throw InputError("physical surface '" + surface + "' is used by " + it->second +
+                         " and by " + feature + "; " + fix);
+    };
+    const std::string one_interface = "each fit surface belongs to one interface (a second one "
+                                      "would halve its contact pressure).";
+    for (const auto &f : model.interfaces().list())
+      {
+        claim(f.shaft_surface, "Interface " + f.name, one_interface);
+        if (f.hub_surface != f.shaft_surface)
+          claim(f.hub_surface, "Interface " + f.name, one_interface);
+      }
+    for (const auto &b : eigen.bearing_list().list())
+      claim(b.surface, "Bearing " + b.name,
+            "a bearing acts on a shaft surface of its own (a fit surface is "
+            "inside the assembly; two bearings on one face double its "
+            "stiffness: add their coefficients into one bearing).");
+    for (const auto &r : model.roller_surfaces())
+      {
+        const auto it = owner.find(r);
+        if (it != owner.end() && it->second.rfind("Interface", 0) == 0)
+          log << "Warning: Supports/Axial roller surfaces: '" << r << "' is a fit surface of "
+              << it->second << "; its nodes are held axially.\n";
+      }
+  }
+
+  void
+  RotorProblem::check_tip_speed() const
+  {
+    // A speed range that no rotor survives is a units slip (rad/s, Hz or
+    // r/min): the rim speed of the largest radius against 2,000 m/s, about
+    // twice the burst speed of the strongest metal disks.
+    const double r_max = model.outer_radius();
+    const double rpm   = speeds.speeds_rpm().back();
+    const double tip   = SpeedSchedule::rpm_to_rad_per_s(rpm) * r_max;
+    if (tip > 2000)
+      {
+        std::ostringstream m;
+        m << std::setprecision(3) << "Speeds: the last speed, " << rpm
+          << " r/min, moves the outer radius " << r_max * 1e3 << " mm at " << tip
+          << " m/s; no metal rotor survives 2,000 m/s (disks burst at 500 .. 1,000 m/s). "
+             "Speeds are in r/min.";
+        throw InputError(m.str());
+      }
+  }
+
+  void
+  RotorProblem::check_resources() const
+  {
+    using namespace resources;
+    const double n       = model.dofs().n_dofs();
+    const double statics = factorization_bytes(n, true) + 3 * sparse_matrix_bytes(n);
+    double       modes   = 0;
+    if (eigen.enabled())
+      modes = factorization_bytes(n, false) + 12 * sparse_matrix_bytes(n) +
+              // the Arnoldi vectors are replicated on every rank
+              Utilities::MPI::n_mpi_processes(comm) * eigen.state_vectors_needed(n) * 2 * n * 8.;
+    const double peak = std::max(statics, modes);
+    // rank 0 decides for all (ranks may see other environments or nodes)
+    const double limit = Utilities::MPI::broadcast(comm, physical_memory_bytes(), 0);
+    log << "Memory estimate: " << gigabytes(peak) << " at the peak ("
+        << (modes > statics ? "eigenproblem" : "static solve") << "), machine "
+        << gigabytes(limit) << '\n';
+    if (peak > 0.9 * limit)
+      throw InputError("the model (" + std::to_string(static_cast<long long>(n)) +
+                       " DOFs) needs about " + gigabytes(peak) + " at its peak (" +
+                       (modes > statics ? "the eigenproblem's LU and Krylov space" :
+                                          "the static factorisation") +
+                       ") but this run may use " + gigabytes(limit) +
+                       " (the machine's memory, or ROTORFIT_MEMORY_GB)" +
+                       "; coarsen the mesh, or lower Eigenproblem/Number of modes or Krylov "
+                       "size factor.");
+  }
+} // namespace rotorfit
