@@ -353,16 +353,55 @@ namespace rotorfit
     return woodbury.reinit(d, springs, column); // false: singular capacitance, factorise instead
   }
 
-  unsigned int
-  ContactSolver::solve_load_case(const PETScWrappers::MPI::Vector *base_load,
-                                 const double                      load_factor,
-                                 const bool                        with_interference,
-                                 const double                      gap_scale,
-                                 const std::vector<bool>          &active,
-                                 std::vector<double>              &force,
-                                 std::vector<double>              &gap,
-                                 PETScWrappers::MPI::Vector       &u)
+  void
+  ContactSolver::check_update(const std::vector<double>  &c,
+                              const std::vector<bool>    &active,
+                              const std::vector<double>  &force,
+                              PETScWrappers::MPI::Vector &rhs,
+                              PETScWrappers::MPI::Vector &u)
   {
+    const unsigned int  n = pairs->pairs().size();
+    std::vector<double> f(n);
+    const auto &changed   = woodbury.changed();
+    const auto &changed_k = woodbury.springs();
+    // u = K_base^-1 (rhs - B_D c); its residual against K_A lives on the
+    // changed pairs only: B_D (S B_D^T u - c)
+    std::fill(f.begin(), f.end(), 0.);
+    for (unsigned int a = 0; a < changed.size(); ++a)
+      f[changed[a]] = -c[a];
+    add_pair_forces(f, rhs);
+    const auto start_time = std::chrono::steady_clock::now();
+    solver.solve(u, rhs);
+    times.solves += seconds_since(start_time);
+    const std::vector<double> t = project(u);
+    // written so that a NaN propagates (std::max would drop it)
+    double residual = 0, scale = 0;
+    for (unsigned int a = 0; a < changed.size(); ++a)
+      {
+        const double r = std::abs(changed_k[a] * t[changed[a]] - c[a]);
+        if (!(r <= residual))
+          residual = r;
+        scale = std::max(scale, std::abs(c[a]));
+      }
+    for (unsigned int i = 0; i < n; ++i)
+      if (active[i])
+        scale = std::max(scale, std::abs(force[i]));
+    const double relative = scale > 0 ? residual / scale : residual;
+    if (!(relative <= update_residual))
+      update_residual = relative;
+  }
+
+  unsigned int
+  ContactSolver::solve_load_case(const LoadCase          &load,
+                                 const std::vector<bool> &active,
+                                 std::vector<double>     &force,
+                                 std::vector<double>     &gap,
+                                 PETScWrappers::MPI::Vector &u)
+  {
+    const PETScWrappers::MPI::Vector *base_load         = load.load;
+    const double                      load_factor       = load.factor;
+    const bool                        with_interference = load.with_interference;
+    const double                      gap_scale         = load.gap_scale;
     const auto  &list    = pairs->pairs();
     const bool   penalty = (contact_method == Method::penalty);
     const unsigned int n = list.size();
@@ -413,35 +452,7 @@ namespace rotorfit
           uzawa_capped = true;
       }
     if (!woodbury.empty())
-      {
-        const auto &changed   = woodbury.changed();
-        const auto &changed_k = woodbury.springs();
-        // u = K_base^-1 (rhs - B_D c); its residual against K_A lives on the
-        // changed pairs only: B_D (S B_D^T u - c)
-        std::fill(f.begin(), f.end(), 0.);
-        for (unsigned int a = 0; a < changed.size(); ++a)
-          f[changed[a]] = -c[a];
-        add_pair_forces(f, rhs);
-        const auto start_time = std::chrono::steady_clock::now();
-        solver.solve(u, rhs);
-        times.solves += seconds_since(start_time);
-        const std::vector<double> t = project(u);
-        // written so that a NaN propagates (std::max would drop it)
-        double residual = 0, scale = 0;
-        for (unsigned int a = 0; a < changed.size(); ++a)
-          {
-            const double r = std::abs(changed_k[a] * t[changed[a]] - c[a]);
-            if (!(r <= residual))
-              residual = r;
-            scale = std::max(scale, std::abs(c[a]));
-          }
-        for (unsigned int i = 0; i < n; ++i)
-          if (active[i])
-            scale = std::max(scale, std::abs(force[i]));
-        const double relative = scale > 0 ? residual / scale : residual;
-        if (!(relative <= update_residual))
-          update_residual = relative;
-      }
+      check_update(c, active, force, rhs, u);
     constraints->distribute(u);
     return iterations;
   }
@@ -480,9 +491,9 @@ namespace rotorfit
         uzawa_capped    = false;
         if (affine)
           {
-            uzawa_count += solve_load_case(nullptr, 0., true, 1., active, next.force_I, next.gap_I, next.u_I);
+            uzawa_count += solve_load_case({nullptr, 0., true, 1.}, active, next.force_I, next.gap_I, next.u_I);
             if (w_max > 0)
-              uzawa_count += solve_load_case(F_c, 1., false, w_max, active, next.force_C, next.gap_C, next.u_C);
+              uzawa_count += solve_load_case({F_c, 1., false, w_max}, active, next.force_C, next.gap_C, next.u_C);
             else
               next.u_C.reinit(owned, comm);
           }
@@ -492,12 +503,12 @@ namespace rotorfit
             // ((K_A - w M) u' = F_c + M u, same factorisation), stored as the
             // tangent X_I + w' X_C, X_I = X(w) - w X'(w): exact at w, and it
             // predicts the openings up to the next speed to first order
-            uzawa_count += solve_load_case(F_c, w, true, 1., active, next.force_I, next.gap_I, next.u_I);
+            uzawa_count += solve_load_case({F_c, w, true, 1.}, active, next.force_I, next.gap_I, next.u_I);
             PETScWrappers::MPI::Vector u_free = next.u_I, load(owned, comm);
             constraints->set_zero(u_free); // M_perp acts on the condensed u
             M_perp->vmult(load, u_free);
             load += *F_c;
-            uzawa_count += solve_load_case(&load, 1., false, w_max, active, next.force_C, next.gap_C, next.u_C);
+            uzawa_count += solve_load_case({&load, 1., false, w_max}, active, next.force_C, next.gap_C, next.u_C);
             for (unsigned int i = 0; i < n; ++i)
               {
                 next.force_I[i] -= w * next.force_C[i];
@@ -520,129 +531,6 @@ namespace rotorfit
         current         = std::move(next);
         return;
       }
-  }
-
-  ContactSolver::State
-  ContactSolver::solve(const double w)
-  {
-    const unsigned int n = pairs->pairs().size();
-    State              state;
-    const unsigned int factorizations_before = solver.n_factorizations();
-    const unsigned int updates_before        = low_rank_updates;
-    const unsigned int columns_before        = influence_columns;
-    uzawa_count                              = 0;
-
-    std::vector<bool>         active = current.active;
-    std::vector<unsigned int> flips(n, 0);
-    std::set<std::vector<bool>> seen;
-    const auto                 &list          = pairs->pairs();
-    while (true)
-      {
-        const bool reusable = current.valid && current.active == active &&
-                              (current.affine || current.w_fixed == w);
-        if (!reusable)
-          compute_decomposition(active, w);
-        ++state.active_set_iterations;
-
-        state.force.resize(n);
-        state.gap.resize(n);
-        state.pressure.resize(n);
-        for (unsigned int i = 0; i < n; ++i)
-          {
-            state.force[i]    = current.force_I[i] + w * current.force_C[i];
-            state.gap[i]      = current.gap_I[i] + w * current.gap_C[i];
-            state.pressure[i] = current.pressure_I[i] + w * current.pressure_C[i];
-          }
-        // A closed pair opens when both its pressure and its own nodal force
-        // are tensile. The force alone is noise on P2 vertex pairs (their
-        // weight int psi_i dA is zero: they would open at rest); the smooth
-        // pressure alone would open pairs whose own force still holds them,
-        // which then penetrate and close again (cycling). An open pair
-        // closes when it penetrates.
-        std::vector<bool> next(n);
-        for (unsigned int i = 0; i < n; ++i)
-          next[i] = active[i] ? (state.pressure[i] > 0 || state.force[i] > 0) :
-                                state.gap[i] < 0;
-        if (next == active)
-          break;
-        if (state.active_set_iterations >= max_active_set_iterations)
-          {
-            state.flipped_back = std::count_if(flips.begin(), flips.end(),
-                                               [](unsigned int f) { return f >= 2; });
-            state.converged = false;
-            break;
-          }
-        // cycling guard. Flipping many pairs at once can overshoot: opening
-        // a group lets one of them penetrate, closing it makes it tensile
-        // again. A pair that has flipped back is held while other pairs
-        // still change; once only such pairs are left they change one at a
-        // time, the worst violation first, a penetrating pair before a
-        // tensile one (a single tensile pair that opens cannot penetrate:
-        // the flexibility is SPD).
-        seen.insert(active);
-        std::vector<bool> proposal = active;
-        bool              fresh    = false;
-        for (unsigned int i = 0; i < n; ++i)
-          if (next[i] != active[i] && flips[i] < 2)
-            {
-              proposal[i] = next[i];
-              fresh       = true;
-            }
-        if (!fresh || seen.count(proposal) > 0)
-          {
-            // candidates by priority: penetrating pairs (deepest first),
-            // then tensile ones (most tensile pressure first); the first
-            // whose set has not been visited yet
-            std::vector<std::tuple<bool, double, unsigned int>> candidates;
-            for (unsigned int i = 0; i < n; ++i)
-              if (next[i] != active[i])
-                candidates.emplace_back(active[i],
-                                        active[i] ? state.pressure[i] :
-                                                    state.gap[i] / list[i].interference,
-                                        i);
-            std::sort(candidates.begin(), candidates.end());
-            for (const auto &candidate : candidates)
-              {
-                const unsigned int i = std::get<2>(candidate);
-                proposal             = active;
-                proposal[i]          = !active[i];
-                if (seen.count(proposal) == 0)
-                  break;
-              }
-          }
-        if (seen.count(proposal) > 0)
-          {
-            // every way on leads back to a visited set
-            state.flipped_back = std::count_if(flips.begin(), flips.end(),
-                                               [](unsigned int f) { return f >= 2; });
-            state.converged = false;
-            break;
-          }
-        for (unsigned int i = 0; i < n; ++i)
-          if (proposal[i] != active[i])
-            ++flips[i];
-        next = proposal;
-        active = next;
-      }
-    if (!state.converged)
-      state.reason = "active set not settled (" + std::to_string(state.active_set_iterations) +
-                     " iterations; " + std::to_string(state.flipped_back) + " pairs flipped back)";
-    if (!current.uzawa_converged)
-      {
-        state.converged = false;
-        state.reason += std::string(state.reason.empty() ? "" : "; ") +
-                        "Uzawa cap reached (Contact/Maximum Uzawa iterations = " +
-                        std::to_string(max_uzawa_iterations) + ")";
-      }
-    state.active = current.active;
-    for (unsigned int i = 0; i < n; ++i)
-      if (!state.active[i])
-        state.force[i] = state.pressure[i] = 0;
-    state.uzawa_iterations = uzawa_count;
-    state.factorizations   = solver.n_factorizations() - factorizations_before;
-    state.low_rank_updates = low_rank_updates - updates_before;
-    state.influence_columns = influence_columns - columns_before;
-    return state;
   }
 
   void

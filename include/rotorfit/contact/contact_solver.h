@@ -13,6 +13,7 @@
 #include <deal.II/lac/petsc_vector.h>
 #include <deal.II/lac/vector.h>
 
+#include <set>
 #include <string>
 #include <vector>
 
@@ -210,6 +211,25 @@ namespace rotorfit
     }
 
   private:
+    /// Forces, gaps and pressures of the current decomposition at @p w.
+    void
+    evaluate(const double w, State &state) const;
+
+    /// The pairs closed according to @p state (opening and closing rules).
+    std::vector<bool>
+    next_active_set(const std::vector<bool> &active, const State &state) const;
+
+    /// The set to try after @p active when @p next is wanted: @p next without
+    /// the pairs that flipped back (@p flips), or one pair at a time; false
+    /// when every way on leads to a set in @p seen.
+    bool
+    guard_cycling(const std::vector<bool>           &active,
+                  const std::vector<bool>           &next,
+                  const State                       &state,
+                  const std::vector<unsigned int>   &flips,
+                  const std::set<std::vector<bool>> &seen,
+                  std::vector<bool>                 &proposal) const;
+
     void
     compute_decomposition(const std::vector<bool> &active, const double w);
 
@@ -239,16 +259,33 @@ namespace rotorfit
     add_pair_forces(const std::vector<double>          &f,
                     dealii::PETScWrappers::MPI::Vector &rhs) const;
 
+    /// A load case: @p factor times @p load (none: nullptr), with the
+    /// interference of the pairs or without; the constraint error is
+    /// measured times @p gap_scale (w_max for the unit centrifugal case).
+    struct LoadCase
+    {
+      const dealii::PETScWrappers::MPI::Vector *load;
+      double                                    factor;
+      bool                                      with_interference;
+      double                                    gap_scale;
+    };
+
     /// Uzawa (or one penalty solve) for one load case; returns iterations.
     unsigned int
-    solve_load_case(const dealii::PETScWrappers::MPI::Vector *base_load,
-                    const double                              load_factor,
-                    const bool                                with_interference,
-                    const double                              gap_scale,
-                    const std::vector<bool>                  &active,
-                    std::vector<double>                      &force,
-                    std::vector<double>                      &gap,
-                    dealii::PETScWrappers::MPI::Vector       &u);
+    solve_load_case(const LoadCase                     &load,
+                    const std::vector<bool>            &active,
+                    std::vector<double>                &force,
+                    std::vector<double>                &gap,
+                    dealii::PETScWrappers::MPI::Vector &u);
+
+    /// u = K_base^-1 (rhs - B_D c) after a low-rank update, and the
+    /// residual of that update against K_A (kept as update_residual).
+    void
+    check_update(const std::vector<double>          &c,
+                 const std::vector<bool>            &active,
+                 const std::vector<double>          &force,
+                 dealii::PETScWrappers::MPI::Vector &rhs,
+                 dealii::PETScWrappers::MPI::Vector &u);
 
     Method       contact_method = Method::augmented_lagrangian;
     double       alpha          = 10;
