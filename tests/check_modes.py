@@ -1,7 +1,11 @@
 #!/usr/bin/env python3
 """CTest checks of rotorfit's eigen results (campbell.csv, critical_speeds.csv,
 rigid_modes.csv, log.txt) against closed forms or between runs. Every
-tolerance is an argument, stated in tests/CMakeLists.txt.
+tolerance is an argument, stated in tests/CMakeLists.txt. A test with closed
+forms also has its expected output file tests/NAME.output (--expected FILE):
+the values this script computes from the closed forms, with their tolerances,
+which the run's values are diffed against with numdiff (--write-expected FILE
+writes it).
 
   check_modes.py timoshenko EXE PRM OUT TOL FINE_H
       free-free cylinder at rest: the first two bending pairs within TOL of
@@ -79,11 +83,62 @@ def whirl_pairs(table, rpm):
     return list(zip(bw, fw))
 
 
-def report(name, got, expected, tol):
+# every report() against a reference value: (key, got, expected, rtol)
+RESULTS = []
+
+
+def report(name, got, expected, tol, reference=True):
+    """Print and judge got against expected; with REFERENCE (a closed form,
+    not another value of the same run) the pair also goes to the expected
+    output file (see expected_output)."""
     err = (got - expected) / expected
     ok = abs(err) <= tol
     print(f"{name}: {got:.6g} expected {expected:.6g} error {err:+.3e} "
           f"(tolerance {tol:g}) {'ok' if ok else 'FAILED'}")
+    if reference:
+        RESULTS.append((re.sub(r"[^A-Za-z0-9.]+", "_", name).strip("_"), got, expected, tol))
+    return ok
+
+
+def expected_output(path, out, command, write):
+    """The test's expected output file tests/NAME.output: 'key expected rtol'
+    per reference value, computed by this script from the closed forms
+    (WRITE: write it). Otherwise the run's values (OUT/check.got) are diffed
+    against it line by line with numdiff at the line's tolerance, and the
+    file must still hold what the closed forms give (not stale)."""
+    if write:
+        with open(path, "w") as f:
+            f.write(f"# key expected rtol: {os.path.basename(path)[:-7]}, the closed forms of "
+                    f"tests/check_modes.py {command} (doc/theory.md 10)\n"
+                    f"# regenerate: python3 tests/check_modes.py {command} EXE PRM OUT ... "
+                    f"--write-expected tests/{os.path.basename(path)}\n")
+            for k, got, e, tol in RESULTS:
+                f.write(f"{k} {e:.10g} {tol:g}\n")
+        print(f"wrote {path} ({len(RESULTS)} values)")
+        return True
+    want = {}
+    for line in open(path):
+        if line.strip() and not line.startswith("#"):
+            k, e, tol = line.split()
+            want[k] = (float(e), tol)
+    got = {k: (g, e) for k, g, e, _ in RESULTS}
+    ok = set(want) == set(got)
+    if not ok:
+        print(f"{path}: keys differ from the run's: missing {sorted(set(want) - set(got))}, "
+              f"extra {sorted(set(got) - set(want))}")
+    with open(os.path.join(out, "check.got"), "w") as f:
+        for k, (g, _) in got.items():
+            f.write(f"{k} {g:.10g}\n")
+    for k in sorted(set(want) & set(got)):
+        e, tol = want[k]
+        if abs(got[k][1] - e) > 1e-9 * abs(e):
+            print(f"{k}: {path} says {e:.10g}, the closed form {got[k][1]:.10g}: stale file")
+            ok = False
+        a, b = (os.path.join(out, k + x) for x in (".got", ".want"))
+        open(a, "w").write(f"{k} {got[k][0]:.10g}\n")
+        open(b, "w").write(f"{k} {e:.10g}\n")
+        ok &= run_test.numdiff(a, b, tol, "0") == 0
+    print(f"numdiff against {path}:", "ok" if ok else "FAILED")
     return ok
 
 
@@ -142,7 +197,7 @@ def check_rigid_rotor(exe, prm, out, tol):
             # at rest the pairs are degenerate: FW = BW
             pairs = whirl_pairs(table, rpm)
             for b, fr in pairs[:2]:
-                ok &= report(f"{rpm:g} r/min: forward = backward", fr, b, 1e-4)
+                ok &= report(f"{rpm:g} r/min: forward = backward", fr, b, 1e-4, False)
         freqs = sorted(float(x["frequency_hz"]) for x in f)
         def closest(target, cand):
             return min(cand, key=lambda x: abs(float(x["frequency_hz"]) - target))
@@ -385,10 +440,21 @@ def check_failure(exe, prm, out, text):
 
 if __name__ == "__main__":
     mode, args = sys.argv[1], sys.argv[2:]
+    expected, write = None, False
+    if "--expected" in args or "--write-expected" in args:
+        flag = "--expected" if "--expected" in args else "--write-expected"
+        i = args.index(flag)
+        expected, write = args[i + 1], flag == "--write-expected"
+        args = args[:i] + args[i + 2:]
     checks = {"timoshenko": check_timoshenko, "rigid_rotor": check_rigid_rotor,
               "free_spin": check_free_spin, "pair_shift": check_pair_shift,
               "loss_of_fit": check_loss_of_fit, "fixed": check_fixed,
               "stiffening": check_stiffening, "bearing_table": check_bearing_table, "mpi": check_mpi, "failure": check_failure}
     if mode not in checks:
         sys.exit(f"unknown mode {mode}")
-    sys.exit(checks[mode](*args))
+    status = checks[mode](*args)
+    if expected:
+        # OUT is the third argument of every mode that has references
+        if not expected_output(expected, args[2], mode, write):
+            status = 1
+    sys.exit(status)
