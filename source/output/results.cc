@@ -5,6 +5,7 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/timer.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -152,7 +153,15 @@ namespace rotorfit
   {
     if (!prepared || !root)
       return;
-    summary.write(output_dir + "/summary.txt");
+    {
+      std::ofstream out(output_dir + "/summary.txt");
+      for (const auto &[key, value] : summary.list())
+        {
+          std::string line = value; // one line per entry: summary.txt is key value
+          std::replace(line.begin(), line.end(), '\n', ' ');
+          out << key << ' ' << line << '\n';
+        }
+    }
     if (!(with_modes && plot))
       return;
     const std::string command = std::string(ROTORFIT_PYTHON) + " " + ROTORFIT_PLOT_SCRIPT +

@@ -6,7 +6,7 @@
 #include <rotorfit/eigen/eigen_solution.h>
 #include <rotorfit/eigen/rotor_matrices.h>
 #include <rotorfit/model/discretization.h>
-#include <rotorfit/output/summary.h>
+#include <rotorfit/base/summary.h>
 #include <rotorfit/statics/static_state.h>
 
 #include <deal.II/base/parameter_handler.h>

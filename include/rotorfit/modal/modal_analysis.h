@@ -5,7 +5,7 @@
 #include <rotorfit/modal/mode_tracker.h>
 #include <rotorfit/modal/whirl.h>
 #include <rotorfit/model/discretization.h>
-#include <rotorfit/output/summary.h>
+#include <rotorfit/base/summary.h>
 
 #include <deal.II/base/parameter_handler.h>
 

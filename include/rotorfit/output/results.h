@@ -4,7 +4,7 @@
 #include <rotorfit/modal/modal_analysis.h>
 #include <rotorfit/model/discretization.h>
 #include <rotorfit/output/paraview_output.h>
-#include <rotorfit/output/summary.h>
+#include <rotorfit/base/summary.h>
 #include <rotorfit/output/tables.h>
 #include <rotorfit/statics/static_state.h>
 

@@ -3,7 +3,7 @@
 #include <rotorfit/base/log.h>
 #include <rotorfit/contact/contact_solver.h>
 #include <rotorfit/model/discretization.h>
-#include <rotorfit/output/summary.h>
+#include <rotorfit/base/summary.h>
 #include <rotorfit/statics/fit_history.h>
 #include <rotorfit/statics/static_state.h>
 

@@ -9,11 +9,10 @@
 namespace rotorfit
 {
   /**
-   * summary.txt: one "key value" line per scalar result of the run (masses,
-   * opening speeds, solver counts, the run's status). The pieces of the run
-   * add their entries; the file is written once, at the end of the run
-   * (completed, failed or interrupted), so the order of the calls cannot
-   * leave it half written.
+   * The scalar results of a run (masses, opening speeds, solver counts, the
+   * run's status) as "key value" entries. The pieces of the run add theirs
+   * at the end; output/ writes them once into summary.txt, so the order of
+   * the calls cannot leave the file half written.
    */
   class Summary
   {
@@ -28,9 +27,12 @@ namespace rotorfit
       entries.emplace_back(key, s.str());
     }
 
-    /// Write every entry to @p filename (call on one MPI rank).
-    void
-    write(const std::string &filename) const;
+    /// The entries in the order they were added.
+    const std::vector<std::pair<std::string, std::string>> &
+    list() const
+    {
+      return entries;
+    }
 
   private:
     std::vector<std::pair<std::string, std::string>> entries;
