@@ -6,6 +6,10 @@
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
 
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/mapping.h>
+
 #include <deal.II/lac/full_matrix.h>
 
 #include <algorithm>
@@ -135,5 +139,32 @@ namespace rotorfit_unit
           scale = std::max(scale, std::abs(B(i, j)));
         }
     return diff / scale;
+  }
+  /// Component @p c[i] and vertex @p v[i] (of the points @p x) of each DoF
+  /// i of a P1 vector element on @p cell: the vertex at its support point.
+  template <typename Cell>
+  void
+  components_and_vertices(const dealii::FESystem<3>                 &fe,
+                          const dealii::Mapping<3>                  &mapping,
+                          const Cell                                &cell,
+                          const std::vector<dealii::Point<3>>       &x,
+                          std::vector<unsigned int>                 &c,
+                          std::vector<unsigned int>                 &v)
+  {
+    const unsigned int            n = fe.n_dofs_per_cell();
+    const dealii::Quadrature<3>   nodes(fe.base_element(0).get_unit_support_points());
+    dealii::FEValues<3>           at_nodes(mapping, fe.base_element(0), nodes,
+                                 dealii::update_quadrature_points);
+    at_nodes.reinit(cell);
+    c.assign(n, 0);
+    v.assign(n, 0);
+    for (unsigned int i = 0; i < n; ++i)
+      {
+        const auto [comp, k] = fe.system_to_component_index(i);
+        c[i]                 = comp;
+        for (unsigned int w = 0; w < 4; ++w)
+          if (at_nodes.quadrature_point(k).distance(x[w]) < 1e-12)
+            v[i] = w;
+      }
   }
 } // namespace rotorfit_unit

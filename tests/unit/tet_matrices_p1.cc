@@ -75,18 +75,8 @@ main(int argc, char **argv)
         M(i, j) = matrices.mass.el(dofs[i], dofs[j]);
         K(i, j) = matrices.stiffness.el(dofs[i], dofs[j]);
       }
-  const Quadrature<3> nodes(fe.base_element(0).get_unit_support_points());
-  FEValues<3>         at_nodes(mapping, fe.base_element(0), nodes, update_quadrature_points);
-  at_nodes.reinit(cell);
-  std::vector<unsigned int> c(n), v(n);
-  for (unsigned int i = 0; i < n; ++i)
-    {
-      const auto [comp, k] = fe.system_to_component_index(i);
-      c[i]                 = comp;
-      for (unsigned int w = 0; w < 4; ++w)
-        if (at_nodes.quadrature_point(k).distance(x[w]) < 1e-12)
-          v[i] = w;
-    }
+  std::vector<unsigned int> c, v;
+  rotorfit_unit::components_and_vertices(fe, mapping, cell, x, c, v);
 
   const double V = tet_volume(x);
   double       total = 0;

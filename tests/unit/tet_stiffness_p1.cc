@@ -47,18 +47,8 @@ main()
     rotorfit::add_elastic_stiffness(fe_values, q, body.lambda(), body.mu(), K, eps);
 
   // component and vertex of each DoF: the vertex at the DoF's support point
-  const Quadrature<3> nodes(fe.base_element(0).get_unit_support_points());
-  FEValues<3>         at_nodes(mapping, fe.base_element(0), nodes, update_quadrature_points);
-  at_nodes.reinit(cell);
-  std::vector<unsigned int> c(n), v(n);
-  for (unsigned int i = 0; i < n; ++i)
-    {
-      const auto [comp, k] = fe.system_to_component_index(i);
-      c[i]                 = comp;
-      for (unsigned int w = 0; w < 4; ++w)
-        if (at_nodes.quadrature_point(k).distance(x[w]) < 1e-12)
-          v[i] = w;
-    }
+  std::vector<unsigned int> c, v;
+  rotorfit_unit::components_and_vertices(fe, mapping, cell, x, c, v);
 
   const FullMatrix<double> K_ref = cst_stiffness(x, c, v, E, nu);
   check.relative("volume from JxW", [&] {
