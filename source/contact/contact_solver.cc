@@ -124,17 +124,17 @@ namespace rotorfit
   }
 
   void
-  ContactSolver::initialize(const ContactPairs                     &pairs_,
-                            const AffineConstraints<double>        &constraints_,
-                            const DynamicSparsityPattern           &sparsity,
-                            const PETScWrappers::MPI::SparseMatrix &stiffness,
-                            const PETScWrappers::MPI::Vector       &unit_load,
-                            const PETScWrappers::MPI::SparseMatrix *m_perp,
-                            const Vector<double>                   &diagonal,
-                            const IndexSet                         &owned_,
-                            const MPI_Comm                          comm_,
-                            const double                            w_max_)
+  ContactSolver::initialize(const StaticSystem &system, const double w_max_)
   {
+    const ContactPairs                     &pairs_       = system.pairs;
+    const AffineConstraints<double>        &constraints_ = system.constraints;
+    const DynamicSparsityPattern           &sparsity     = system.sparsity;
+    const PETScWrappers::MPI::SparseMatrix &stiffness    = system.stiffness;
+    const PETScWrappers::MPI::Vector       &unit_load    = system.unit_centrifugal_load;
+    const PETScWrappers::MPI::SparseMatrix *m_perp       = system.spin_softening_matrix;
+    const Vector<double>                   &diagonal     = system.stiffness_diagonal;
+    const IndexSet                         &owned_       = system.owned;
+    const MPI_Comm                          comm_        = system.comm;
     pairs       = &pairs_;
     constraints = &constraints_;
     K           = &stiffness;

@@ -273,16 +273,27 @@ namespace rotorfit
     /// The eigenpair of ARPACK's slot @p j (and of its partner j + 1 for a
     /// complex pair: @p j is advanced past it), with Im lambda >= 0 and
     /// |phi| = 1; false for an unconverged slot.
-    bool
-    recover_pair(const std::vector<std::complex<double>> &lambda,
-                 const std::vector<Vector<double>>       &z,
-                 const unsigned int                       nev,
-                 const std::size_t                        n,
-                 const BackwardError                     &backward_error,
-                 const double                             max_backward_error,
-                 unsigned int                            &j,
-                 EigenPair                               &p)
+    /// What ARPACK returned: @p nev Ritz values and the state vectors
+    /// (length 2 n) of their real and imaginary parts.
+    struct RitzPairs
     {
+      const std::vector<std::complex<double>> &lambda;
+      const std::vector<Vector<double>>       &z;
+      unsigned int                             nev;
+      std::size_t                              n;
+    };
+
+    bool
+    recover_pair(const RitzPairs     &ritz,
+                 const BackwardError &backward_error,
+                 const double         max_backward_error,
+                 unsigned int        &j,
+                 EigenPair           &p)
+    {
+      const auto &lambda = ritz.lambda;
+      const auto &z      = ritz.z;
+      const auto  nev    = ritz.nev;
+      const auto  n      = ritz.n;
       // an unconverged slot: exactly 0 + 0i, a zero vector, or not finite
       if ((lambda[j] == std::complex<double>(0., 0.)) || !std::isfinite(lambda[j].real()) ||
           !std::isfinite(lambda[j].imag()) || !(z[j].l2_norm() > 0))
@@ -389,11 +400,12 @@ namespace rotorfit
     // member they belong to is checked by the backward error (doc/theory.md
     // 8.4). Only the Im >= 0 member is kept.
     const BackwardError    backward_error(M, C, K);
+    const RitzPairs        ritz{lambda, z, nev, n};
     std::vector<EigenPair> pairs;
     for (unsigned int j = 0; j < nev; ++j)
       {
         EigenPair p;
-        if (recover_pair(lambda, z, nev, n, backward_error, max_backward_error, j, p))
+        if (recover_pair(ritz, backward_error, max_backward_error, j, p))
           pairs.push_back(std::move(p));
         else if (j < nev)
           ++stats.unconverged_slots;

@@ -60,15 +60,15 @@ namespace rotorfit
       setup_system();
       assemble_system();
     }
-    contact.initialize(model.pairs(),
-                       model.static_constraints(),
-                       sparsity,
-                       stiffness,
-                       unit_centrifugal_load,
-                       spin_softening ? &spin_softening_matrix : nullptr,
-                       stiffness_diagonal,
-                       model.locally_owned_dofs(),
-                       comm,
+    contact.initialize({model.pairs(),
+                        model.static_constraints(),
+                        sparsity,
+                        stiffness,
+                        unit_centrifugal_load,
+                        spin_softening ? &spin_softening_matrix : nullptr,
+                        stiffness_diagonal,
+                        model.locally_owned_dofs(),
+                        comm},
                        w_max);
     log << "Contact: "
         << (contact.method() == ContactSolver::Method::penalty ? "penalty" :

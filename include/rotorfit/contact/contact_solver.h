@@ -101,24 +101,26 @@ namespace rotorfit
     void
     parse_parameters(dealii::ParameterHandler &prm);
 
-    /**
-     * @p sparsity: pattern of K including the pair couplings; @p stiffness: K with the static constraints; @p unit_centrifugal_load:
-     * F_c per unit Omega^2; @p spin_softening_matrix: M_perp (used only when
-     * @p spin_softening); @p stiffness_diagonal: replicated diagonal of the
-     * unconstrained K (sets the penalties); @p w_max: largest Omega^2 of the
-     * sweep (scales the Uzawa tolerance of the centrifugal case).
-     */
+    /// The static system the contact acts on (kept referenced).
+    struct StaticSystem
+    {
+      const ContactPairs                             &pairs;
+      const dealii::AffineConstraints<double>        &constraints; ///< the static supports
+      const dealii::DynamicSparsityPattern           &sparsity; ///< of K with the pair couplings
+      const dealii::PETScWrappers::MPI::SparseMatrix &stiffness; ///< K with the supports
+      const dealii::PETScWrappers::MPI::Vector &unit_centrifugal_load; ///< F_c per unit Omega^2
+      /// M_perp, or nullptr without spin softening
+      const dealii::PETScWrappers::MPI::SparseMatrix *spin_softening_matrix;
+      /// replicated diagonal of the unconstrained K (sets the penalties)
+      const dealii::Vector<double> &stiffness_diagonal;
+      const dealii::IndexSet       &owned;
+      MPI_Comm                      comm;
+    };
+
+    /// @p w_max: the largest Omega^2 of the run (scales the Uzawa
+    /// tolerance of the centrifugal load case).
     void
-    initialize(const ContactPairs                               &pairs,
-               const dealii::AffineConstraints<double>          &constraints,
-               const dealii::DynamicSparsityPattern             &sparsity,
-               const dealii::PETScWrappers::MPI::SparseMatrix   &stiffness,
-               const dealii::PETScWrappers::MPI::Vector         &unit_centrifugal_load,
-               const dealii::PETScWrappers::MPI::SparseMatrix   *spin_softening_matrix,
-               const dealii::Vector<double>                     &stiffness_diagonal,
-               const dealii::IndexSet                           &owned,
-               const MPI_Comm                                    comm,
-               const double                                      w_max);
+    initialize(const StaticSystem &system, const double w_max);
 
     /// Contact state at w = Omega^2 [rad^2/s^2], continuing from the last one.
     State
