@@ -15,8 +15,12 @@ tests/CMakeLists.txt, and so is each test's kind (its CTest label).
       summary.txt and the log (see static_flags()).
   run_test.py lock_and_signal EXE PRM OUTDIR
       a second run into a busy folder is refused; SIGTERM stops the first.
-  run_test.py areas EXE PRM EXPECTED NAME=AREA,... RTOL
-      --validate accepts PRM and reports these interface/bearing areas.
+  run_test.py areas EXE PRM EXPECTED
+      --validate accepts PRM and reports the interface/bearing areas of
+      EXPECTED ('area.NAME value rtol' lines; numdiff).
+  run_test.py softening EXE PRM_OFF OUT_OFF PRM_ON OUT_ON EXPECTED
+      losses of fit with spin softening off/on and their shift against
+      EXPECTED (exact values of tests/lame.py; numdiff).
   run_test.py parameters_doc GENERATED DOC
       DOC equals GENERATED (the build's parameters.md).
   run_test.py valid EXE PRM
