@@ -142,9 +142,9 @@ def expected_output(path, out, command, write):
     return ok
 
 
-def prepare(prm, out, replace=None):
-    """Arguments that run PRM (or its variant, see run_test.case) into OUT."""
-    return run_test.case(prm, out, replace)
+def prepare(prm, out, sets=()):
+    """Arguments that run PRM into OUT, with --set SETS (see run_test.case)."""
+    return run_test.case(prm, out, sets)
 
 
 def check_timoshenko(exe, prm, out, tol, fine_h):
@@ -154,9 +154,11 @@ def check_timoshenko(exe, prm, out, tol, fine_h):
     ref = [w / (2 * math.pi) for w in timoshenko.timoshenko(E, nu, rho, R, L, 2)]
     ok = True
     errors = []
-    for label, o, rep in (("coarse", out, None),
-                          ("fine", out + "_fine", [(r"\bh\s*:\s*[-+0-9.eE]+", "h: " + fine_h)])):
-        run_test.run(exe, prepare(prm, o, rep))
+    # the finer mesh: the same Geometry parameters with h = FINE_H (--set)
+    line = re.search(r"set Geometry parameters\s*=\s*(.*)", text).group(1).strip()
+    fine = "Geometry/Geometry parameters=" + re.sub(r"\bh\s*:\s*[-+0-9.eE]+", "h: " + fine_h, line)
+    for label, o, sets in (("coarse", out, ()), ("fine", out + "_fine", (fine,))):
+        run_test.run(exe, prepare(prm, o, sets))
         r = at(rows(o), 0.0)
         f = sorted(float(x["frequency_hz"]) for x in r if x["whirl"] != "non-lateral")
         pairs = [0.5 * (f[0] + f[1]), 0.5 * (f[2] + f[3])]

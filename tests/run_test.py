@@ -7,8 +7,8 @@ tests/CMakeLists.txt, and so is each test's kind (its CTest label).
   run_test.py compare EXE PRM OUTDIR EXPECTED RTOL ATOL [NP]
       run the case, take the keys of EXPECTED from OUTDIR/summary.txt and
       compare them with numdiff (relative RTOL, absolute ATOL).
-  run_test.py error EXE PRM EXPECTED
-      --validate must fail with exit code 1; stderr is compared with EXPECTED
+  run_test.py error EXE PRM EXPECTED [OPTIONS...]
+      --validate [OPTIONS] must fail with exit code 1; stderr is compared with EXPECTED
       (numdiff, numbers to 1e-6 relative).
   run_test.py static_flags EXE PRM OUTDIR TEXT [LIMIT]
       an unconverged static state flagged in contact.csv, campbell.csv,
@@ -57,23 +57,22 @@ def run(exe, prm, np=1, outdir=None):
     sys.stderr.write(r.stderr[-3000:])
     if r.returncode != 0:
         sys.exit(f"rotorfit exited with {r.returncode}")
+    if outdir is not None:
+        # the effective parameters record where the results went
+        import re
+        used = open(os.path.join(outdir, "parameters.prm")).read()
+        if not re.search(r"set Directory\s*=\s*" + re.escape(outdir) + r"\s*$", used, re.M):
+            sys.exit(f"{outdir}/parameters.prm does not record --output {outdir}")
 
 
-def case(prm, outdir, replace=None):
-    """Arguments that run PRM into OUTDIR. Only a variant of PRM (REPLACE:
-    [(regex, substitute)], e.g. a finer mesh) is written as a copy, in the
-    working directory, its geometry file made absolute."""
-    if not replace:
-        return ["--output", outdir, prm]
-    import re
-    text = open(prm).read()
-    base = os.path.dirname(os.path.abspath(prm))
-    for a, b in replace + [(r"(set (?:Geometry file|Coefficient table)\s*=\s*)(\S+)",
-                            lambda m: m.group(1) + os.path.normpath(os.path.join(base, m.group(2))))]:
-        text = re.sub(a, b, text)
-    copy = os.path.basename(outdir) + ".prm"
-    open(copy, "w").write(text)
-    return ["--output", outdir, copy]
+def case(prm, outdir, sets=()):
+    """Arguments that run PRM into OUTDIR; SETS ('Subsection/Entry=value')
+    go to --set, so a variant of a case (a finer mesh, say) needs no copy of
+    its .prm."""
+    args = ["--output", outdir]
+    for s in sets:
+        args += ["--set", s]
+    return args + [prm]
 
 
 def falls(exe, prm, outdir):
@@ -341,9 +340,11 @@ def parameters_doc(generated, doc):
     return 1
 
 
-def error(exe, prm, expected):
+def error(exe, prm, expected, *options):
+    """--validate [OPTIONS] PRM must refuse the input (exit code 1) with
+    exactly the message EXPECTED (numbers to 1e-6 relative)."""
     import tempfile
-    r = subprocess.run([exe, "--validate", prm], capture_output=True, text=True)
+    r = subprocess.run([exe, "--validate"] + list(options) + [prm], capture_output=True, text=True)
     got = os.path.join(tempfile.mkdtemp(), os.path.basename(expected) + ".got")
     open(got, "w").write(r.stderr)
     if r.returncode != 1:

@@ -26,14 +26,15 @@ namespace rotorfit
   namespace
   {
     const char *usage =
-      "Usage: rotorfit [--output DIR] FILE.prm     run the case\n"
+      "Usage: rotorfit [--output DIR] [--set S/E=V] FILE.prm   run the case\n"
       "       rotorfit --validate [--output DIR] FILE.prm\n"
       "                                           parse and cross-check (mesh, pairs,\n"
       "                                           supports, output folder), no solve\n"
       "       rotorfit --print-parameters [json]  every entry with default, units and\n"
       "                                           meaning (json: with its pattern)\n"
       "       rotorfit --help | --version\n"
-      "--output DIR: results into DIR instead of the file's Output/Directory\n";
+      "--output DIR: results into DIR instead of the file's Output/Directory\n"
+      "--set 'Subsection/Entry=value' (repeatable): overrides an entry of the file\n";
 
     /// deal.II's message without file/line/stack decoration.
     std::string
@@ -130,11 +131,37 @@ namespace rotorfit
       return exit_code::success;
     }
 
+    /// --set overrides: a studied variant of a case without a copy of its
+    /// .prm. The entry's pattern checks the value.
+    void
+    apply_sets(ParameterHandler                                       &prm,
+               const std::vector<std::pair<std::string, std::string>> &sets)
+    {
+      for (const auto &[path, value] : sets)
+        {
+          const auto sections = Utilities::split_string_list(path, '/');
+          try
+            {
+              for (std::size_t k = 0; k + 1 < sections.size(); ++k)
+                prm.enter_subsection(sections[k]);
+              prm.set(sections.back(), value);
+              for (std::size_t k = 0; k + 1 < sections.size(); ++k)
+                prm.leave_subsection();
+            }
+          catch (const ExceptionBase &e)
+            {
+              throw InputError("--set '" + path + "=" + value + "': " + message_of(e));
+            }
+        }
+    }
+
     /// What the command line asks of a case.
     struct CaseOptions
     {
       std::string file, output_override;
       bool        validate = false;
+      /// --set: (path "Subsection/Entry", value), applied after the file
+      std::vector<std::pair<std::string, std::string>> sets;
     };
 
     /// False if @p args are not [--validate] [--output DIR] FILE.
@@ -146,6 +173,12 @@ namespace rotorfit
           options.validate = true;
         else if (args[i] == "--output" && i + 1 < args.size() && options.output_override.empty())
           options.output_override = args[++i];
+        else if (args[i] == "--set" && i + 1 < args.size() &&
+                 args[i + 1].find('=') != std::string::npos)
+          {
+            const std::string &a = args[++i];
+            options.sets.emplace_back(a.substr(0, a.find('=')), a.substr(a.find('=') + 1));
+          }
         else if (args[i].rfind("-", 0) != 0 && options.file.empty())
           options.file = args[i];
         else
@@ -211,6 +244,7 @@ namespace rotorfit
         {
           ParameterHandler prm;
           parse_file(prm, file);
+          apply_sets(prm, options.sets);
           const std::string dir = std::filesystem::path(file).parent_path().string();
           problem = std::make_unique<RotorProblem>(comm, log);
           problem->parse_parameters(prm, dir.empty() ? "." : dir, options.output_override);

@@ -491,9 +491,9 @@ namespace rotorfit
         uzawa_capped    = false;
         if (affine)
           {
-            uzawa_count += solve_load_case({nullptr, 0., true, 1.}, active, next.force_I, next.gap_I, next.u_I);
+            uzawa_count += solve_load_case(LoadCase::interference(), active, next.force_I, next.gap_I, next.u_I);
             if (w_max > 0)
-              uzawa_count += solve_load_case({F_c, 1., false, w_max}, active, next.force_C, next.gap_C, next.u_C);
+              uzawa_count += solve_load_case(LoadCase::per_unit_w(*F_c, w_max), active, next.force_C, next.gap_C, next.u_C);
             else
               next.u_C.reinit(owned, comm);
           }
@@ -503,12 +503,12 @@ namespace rotorfit
             // ((K_A - w M) u' = F_c + M u, same factorisation), stored as the
             // tangent X_I + w' X_C, X_I = X(w) - w X'(w): exact at w, and it
             // predicts the openings up to the next speed to first order
-            uzawa_count += solve_load_case({F_c, w, true, 1.}, active, next.force_I, next.gap_I, next.u_I);
+            uzawa_count += solve_load_case(LoadCase::at_speed(*F_c, w), active, next.force_I, next.gap_I, next.u_I);
             PETScWrappers::MPI::Vector u_free = next.u_I, load(owned, comm);
             constraints->set_zero(u_free); // M_perp acts on the condensed u
             M_perp->vmult(load, u_free);
             load += *F_c;
-            uzawa_count += solve_load_case({&load, 1., false, w_max}, active, next.force_C, next.gap_C, next.u_C);
+            uzawa_count += solve_load_case(LoadCase::per_unit_w(load, w_max), active, next.force_C, next.gap_C, next.u_C);
             for (unsigned int i = 0; i < n; ++i)
               {
                 next.force_I[i] -= w * next.force_C[i];

@@ -189,8 +189,9 @@ namespace rotorfit
                       "frequency of interest.");
     prm.declare_entry("Tolerance",
                       "1e-10",
-                      patterns::Positive(),
-                      "ARPACK relative accuracy of the Ritz values [-].");
+                      Patterns::Double(0.),
+                      "ARPACK relative accuracy of the Ritz values [-] (0: "
+                      "machine precision, ARPACK's own meaning).");
     prm.declare_entry("Krylov size factor",
                       "2",
                       Patterns::Double(1.),

@@ -62,9 +62,10 @@ namespace rotorfit
                       "tetrahedra (1 or 2). The geometry is always quadratic.");
     prm.declare_entry("Interface matching tolerance",
                       "1e-8",
-                      patterns::Positive(),
+                      Patterns::Double(0.),
                       "Two interface support points are a pair if they are "
-                      "closer than this times their radius [-].");
+                      "closer than this times their radius [-] (0: exactly "
+                      "coincident).");
     prm.leave_subsection();
   }
 

@@ -54,7 +54,10 @@ namespace rotorfit
   Results::parse_parameters(ParameterHandler &prm, const std::string &directory_override)
   {
     prm.enter_subsection("Output");
-    output_dir     = directory_override.empty() ? prm.get("Directory") : directory_override;
+    // the command line wins, and parameters.prm records what was used
+    if (!directory_override.empty())
+      prm.set("Directory", directory_override);
+    output_dir     = prm.get("Directory");
     write_paraview = prm.get_bool("Write ParaView files");
     prm.leave_subsection();
     prm.enter_subsection("Eigenproblem");

@@ -16,6 +16,9 @@ namespace rotorfit
 {
   using namespace dealii;
 
+  // The story of a run: setup() (mesh, pairs, supports, the input checks),
+  // run() below, then finish() (summary.txt, the pictures); the command
+  // line (app/application.cc) calls the three.
   void
   RotorProblem::run()
   {
@@ -57,11 +60,11 @@ namespace rotorfit
   void
   RotorProblem::assemble_speed_independent_matrices()
   {
-    sweep_start = std::chrono::steady_clock::now();
     statics.assemble(std::pow(SpeedSchedule::rpm_to_rad_per_s(speeds.speeds_rpm().back()), 2));
+    assembled = true; // from here on summary.txt has the static entries
     eigen.assemble_speed_independent_matrices();
     results.open(model, eigen.enabled());
-    assembled = true;
+    sweep_start = std::chrono::steady_clock::now();
   }
 
   void
@@ -90,6 +93,26 @@ namespace rotorfit
                        const int          exit_code,
                        const std::string &where,
                        const std::string &message)
+  {
+    // once only, and never throwing: it runs on the way out of a failure
+    if (finished)
+      return;
+    finished = true;
+    try
+      {
+        write_summary(status, exit_code, where, message);
+      }
+    catch (const std::exception &e)
+      {
+        log << "rotorfit: summary.txt could not be completed: " << e.what() << '\n';
+      }
+  }
+
+  void
+  RotorProblem::write_summary(const std::string &status,
+                              const int          exit_code,
+                              const std::string &where,
+                              const std::string &message)
   {
     Summary summary;
     if (assembled)

@@ -270,6 +270,25 @@ namespace rotorfit
       double                                    factor;
       bool                                      with_interference;
       double                                    gap_scale;
+
+      /// The interference of the closed pairs alone.
+      static LoadCase
+      interference()
+      {
+        return {nullptr, 0., true, 1.};
+      }
+      /// @p load per unit Omega^2, no interference; errors scaled by @p w_max.
+      static LoadCase
+      per_unit_w(const dealii::PETScWrappers::MPI::Vector &load, const double w_max)
+      {
+        return {&load, 1., false, w_max};
+      }
+      /// Interference and @p w times @p load (one speed, spin softening).
+      static LoadCase
+      at_speed(const dealii::PETScWrappers::MPI::Vector &load, const double w)
+      {
+        return {&load, w, true, 1.};
+      }
     };
 
     /// Uzawa (or one penalty solve) for one load case; returns iterations.

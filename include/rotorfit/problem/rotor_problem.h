@@ -85,6 +85,7 @@ namespace rotorfit
 
     /// summary.txt (with @p status: completed, failed, interrupted,
     /// refused, and where and why it stopped), campbell.png and the timing.
+    /// Once only; never throws.
     void
     finish(const std::string &status,
            const int          exit_code,
@@ -97,6 +98,11 @@ namespace rotorfit
     progress() const;
 
   private:
+    void
+    write_summary(const std::string &status,
+                  const int          exit_code,
+                  const std::string &where,
+                  const std::string &message);
     void
     assemble_speed_independent_matrices();
     /// The log line of a finished speed (contact state, iterations, ETA).
@@ -128,6 +134,7 @@ namespace rotorfit
 
     // where the sweep is (progress(), finish())
     bool         assembled      = false;
+    bool         finished       = false;
     int          current_step   = -1;
     unsigned int finished_steps = 0;
     unsigned int modal_steps    = 0;
