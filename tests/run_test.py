@@ -21,6 +21,9 @@ tests/CMakeLists.txt, and so is each test's kind (its CTest label).
   run_test.py softening EXE PRM_OFF OUT_OFF PRM_ON OUT_ON EXPECTED
       losses of fit with spin softening off/on and their shift against
       EXPECTED (exact values of tests/lame.py; numdiff).
+  run_test.py prints EXE PRM EXPECTED [OPTIONS...]
+      --validate [OPTIONS] PRM prints the lines of EXPECTED (as parts of its
+      lines), in order.
   run_test.py parameters_doc GENERATED DOC
       DOC equals GENERATED (the build's parameters.md).
   run_test.py valid EXE PRM
@@ -324,6 +327,22 @@ def areas(exe, prm, expected):
     return 0 if ok else 1
 
 
+def prints(exe, prm, expected, *options):
+    """--validate [OPTIONS] PRM is accepted and prints every line of
+    EXPECTED (after its '#' comments) within its output lines, in order."""
+    r = subprocess.run([exe, "--validate"] + list(options) + [prm], capture_output=True, text=True)
+    out = r.stdout.splitlines()
+    ok, at = r.returncode == 0, 0
+    for want in (l.rstrip("\n") for l in open(expected) if l.strip() and not l.startswith("#")):
+        found = next((i for i in range(at, len(out)) if want in out[i]), None)
+        print(("found:   " if found is not None else "MISSING: ") + want)
+        ok &= found is not None
+        at = found if found is not None else at  # the next part may be on the same line
+    if not ok:
+        print(r.stdout[-3000:], r.stderr[-2000:])
+    return 0 if ok else 1
+
+
 def parameters_doc(generated, doc):
     """DOC (doc/parameters.md) must be exactly GENERATED, which the build
     writes from `rotorfit --print-parameters json`: the parameter reference
@@ -361,6 +380,8 @@ if __name__ == "__main__":
         sys.exit(compare(*args))
     elif mode == "error":
         sys.exit(error(*args))
+    elif mode == "prints":
+        sys.exit(prints(*args))
     elif mode == "parameters_doc":
         sys.exit(parameters_doc(*args))
     elif mode == "areas":

@@ -202,12 +202,18 @@ namespace rotorfit
                                                            "interference + centrifugal")
         << ", shift " << eigensolver.shift() / (2 * M_PI) << " Hz, "
         << bearings.size() << " bearing(s)\n";
-    for (const auto &b : bearings.list())
-      log << "  bearing " << b.name << " on " << b.surface << ": area "
-          << b.area * 1e6 << " mm^2 at z = " << b.z << " m, " << b.weight.size()
-          << " weighted nodes, kxx " << b.k[0] << " N/m, cxx " << b.c[0]
-          << " N s/m" << (b.table.empty() ? "" : " (speed table " + b.table_file + ")")
-          << '\n';
+    // every coefficient: a cross-coupled bearing must be checkable here
+    for (unsigned int n = 0; n < bearings.size(); ++n)
+      {
+        const auto         &b = bearings.list()[n];
+        Bearings::Coefficients k, c;
+        bearings.coefficients(n, 0., k, c);
+        log << "  bearing " << b.name << " on " << b.surface << ": area " << b.area * 1e6
+            << " mm^2 at z = " << b.z << " m, " << b.weight.size() << " weighted nodes, "
+            << (b.table.empty() ? "" : "at rest (speed table " + b.table_file + ") ") << "kxx "
+            << k[0] << ", kyy " << k[1] << ", kxy " << k[2] << ", kyx " << k[3] << " N/m, cxx "
+            << c[0] << ", cyy " << c[1] << ", cxy " << c[2] << ", cyx " << c[3] << " N s/m\n";
+      }
   }
 
   void
