@@ -88,7 +88,9 @@ def main(outdir, fmax_cap=None):
     cpath = os.path.join(outdir, "critical_speeds.csv")
     crit = [(num(r.get("order"), 1.0), num(r.get("speed_rpm")), num(r.get("frequency_hz")),
              {"forward": "FW", "backward": "BW"}.get(r.get("whirl"), ""))
-            for r in (read_csv(cpath) if os.path.isfile(cpath) else [])]
+            for r in (read_csv(cpath) if os.path.isfile(cpath) else [])
+            # non-lateral lines (axial, torsional) are not critical speeds
+            if r.get("kind", "lateral") != "non-lateral"]
     crit = sorted(c for c in crit if c[1] is not None and c[2] is not None)
     orders = sorted({1.0} | {c[0] for c in crit if c[0] > 0})
     lof = loss_of_fit(os.path.join(outdir, "summary.txt"))

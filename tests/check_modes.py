@@ -238,6 +238,21 @@ def check_rigid_rotor(exe, prm, out, tol):
             continue
         got = min(cand, key=lambda x: abs(x - s))
         ok &= report(f"1X critical speed, {name} [r/min]", got, s, 0.01)
+        if whirl is None:
+            # the translation's damping ratio at its crossing: c / sqrt(2 k m)
+            row = min(crit, key=lambda x: abs(float(x["speed_rpm"]) - s))
+            ok &= report("1X critical speed, translation damping ratio",
+                         float(row["damping_ratio"]), zeta, tol)
+            ok &= report("1X critical speed, translation amplification factor",
+                         float(row["amplification_factor"]), 1 / (2 * zeta), tol)
+    # isotropic bearings: unbalance excites the forward crossings only
+    for x in crit:
+        want = "1" if x["whirl"] != "backward" and int(x["order"]) == 1 else "0"
+        good = x["kind"] == "lateral" and x["unbalance_excited"] == want
+        print(f"crossing at {float(x['speed_rpm']):.6g} r/min, {x['whirl']}: kind {x['kind']}, "
+              f"unbalance_excited {x['unbalance_excited']} (expected lateral, {want})",
+              "ok" if good else "FAILED")
+        ok &= good
     return 0 if ok else 1
 
 

@@ -43,6 +43,15 @@ namespace rotorfit
     solution.rpm   = state.rpm;
     solution.index = state.index;
     solution.tied  = tied_pairs(state);
+    // isotropic supports keep the rotor axisymmetric: [[k, q], [-q, k]]
+    for (unsigned int n = 0; n < bearings.size(); ++n)
+      {
+        Bearings::Coefficients k, c;
+        bearings.coefficients(n, state.rpm, k, c);
+        for (const auto &a : {k, c})
+          if (a[0] != a[1] || a[2] != -a[3])
+            solution.isotropic_supports = false;
+      }
     assemble_tangent(state, solution.tied);
     if (self_check && checks.empty() && state.rpm > 0)
       matrix_checks(state);

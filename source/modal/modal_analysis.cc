@@ -58,6 +58,7 @@ namespace rotorfit
     result.index = solution.index;
     result.rigid = std::move(solution.rigid);
     result.tied  = std::move(solution.tied);
+    result.isotropic_supports = solution.isotropic_supports;
     for (auto &pair : solution.elastic)
       result.modes.emplace_back(std::move(pair));
     stations.separate_degenerate_pairs(result.modes);

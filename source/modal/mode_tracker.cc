@@ -14,6 +14,12 @@ namespace rotorfit
       return {a.re * b.re + a.im * b.im, a.re * b.im - a.im * b.re};
     }
 
+    double
+    zeta(const WhirlMode &m)
+    {
+      return -m.lambda.real() / std::abs(m.lambda);
+    }
+
     bool
     compatible(const std::string &a, const std::string &b)
     {
@@ -74,11 +80,14 @@ namespace rotorfit
               const double h1 = f - k * rpm / 60.;
               if ((h0 > 0 && h1 <= 0) || (h0 < 0 && h1 >= 0))
                 {
-                  const double s = previous_rpm + (rpm - previous_rpm) * h0 / (h0 - h1);
-                  crossings.push_back({m.tracked_id, m.whirl, k, s, k * s / 60.});
+                  const double t = h0 / (h0 - h1);
+                  const double s = previous_rpm + (rpm - previous_rpm) * t;
+                  const double z0 = previous[match[b]].damping_ratio;
+                  crossings.push_back(
+                    {m.tracked_id, m.whirl, k, s, k * s / 60., z0 + t * (zeta(m) - z0)});
                 }
             }
-        current.push_back({m.tracked_id, f, m.whirl, m.phi, m.m_phi});
+        current.push_back({m.tracked_id, f, zeta(m), m.whirl, m.phi, m.m_phi});
       }
     previous     = std::move(current);
     previous_rpm = rpm;

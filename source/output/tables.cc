@@ -86,7 +86,8 @@ namespace rotorfit
   void
   CriticalSpeedTable::open(const std::string &directory)
   {
-    create(directory + "/critical_speeds.csv", "tracked_id,whirl,order,speed_rpm,frequency_hz", 10);
+    create(directory + "/critical_speeds.csv", "tracked_id,whirl,order,speed_rpm,frequency_hz,kind,unbalance_excited,"
+           "damping_ratio,amplification_factor", 10);
   }
 
   void
@@ -94,9 +95,20 @@ namespace rotorfit
   {
     if (!file.is_open())
       return;
+    // kind: lateral or non-lateral (axial, torsional, ND >= 2: unbalance
+    // cannot excite them, and the picture does not mark them); unbalance
+    // (1X, a forward force) excites forward whirl, and backward whirl only
+    // on anisotropic supports; amplification factor 1 / (2 zeta)
     for (const auto &c : modes.crossings)
-      file << c.tracked_id << ',' << c.whirl << ',' << c.order << ',' << c.rpm << ','
-           << c.frequency_hz << '\n';
+      {
+        const bool lateral = c.whirl != "non-lateral";
+        const bool excited = lateral && c.order == 1 &&
+                             (c.whirl != "backward" || !modes.isotropic_supports);
+        file << c.tracked_id << ',' << c.whirl << ',' << c.order << ',' << c.rpm << ','
+             << c.frequency_hz << ',' << (lateral ? "lateral" : "non-lateral") << ','
+             << (excited ? 1 : 0) << ',' << c.damping_ratio << ','
+             << (c.damping_ratio > 0 ? 1 / (2 * c.damping_ratio) : 0.) << '\n';
+      }
     file << std::flush;
   }
 

@@ -29,5 +29,6 @@ namespace rotorfit
     std::vector<EigenPair> elastic;
     std::vector<RigidMode> rigid;
     std::vector<bool>      tied; ///< per contact pair
+    bool isotropic_supports = true; ///< the bearings at this speed are isotropic
   };
 } // namespace rotorfit

@@ -22,6 +22,7 @@ namespace rotorfit
     std::vector<RigidMode>     rigid;
     std::vector<CriticalSpeed> crossings; ///< since the previous speed
     std::vector<bool>          tied;      ///< pairs the eigenproblem tied
+    bool isotropic_supports = true; ///< kxx = kyy, kxy = -kyx (and damping alike)
   };
 
   /**

@@ -14,6 +14,7 @@ namespace rotorfit
     std::string  whirl;
     unsigned int order = 1;
     double       rpm = 0, frequency_hz = 0;
+    double       damping_ratio = 0; ///< of the line, interpolated to the crossing
   };
 
   /**
@@ -48,6 +49,7 @@ namespace rotorfit
     {
       unsigned int  id;
       double        frequency_hz;
+      double        damping_ratio;
       std::string   whirl;
       ComplexVector phi, m_phi;
     };
