@@ -185,6 +185,10 @@ def check_rigid_rotor(exe, prm, out, tol):
     text = open(prm).read()
     m, Ip, Id = cylinder(text)
     k, c, L = value(text, "kxx"), value(text, "cxx"), geometry(text, "L")
+    # bearings as bands (Axial position): the span is between the band middles
+    z = [float(x) for x in re.findall(r"set Axial position\s*=\s*([-+0-9.eE]+)", text)]
+    if len(z) == 2:
+        L = abs(z[1] - z[0])
     table = rows(out)
     ok = True
     previous = None

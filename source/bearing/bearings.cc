@@ -93,12 +93,7 @@ namespace rotorfit
     for (const auto &name : list)
       {
         prm.enter_subsection("Bearing " + name);
-        prm.declare_entry("Surface",
-                          "",
-                          Patterns::Anything(),
-                          "Physical surface (a shaft end face) whose "
-                          "area-averaged lateral displacement the bearing "
-                          "holds. Mandatory.");
+        Station::declare_parameters(prm, "the bearing");
         // direct terms (xx, yy) >= 0, cross terms any sign
         for (unsigned int i = 0; i < 8; ++i)
           prm.declare_entry(names[i],
@@ -126,11 +121,7 @@ namespace rotorfit
         prm.enter_subsection("Bearing " + name);
         Bearing b;
         b.name    = name;
-        b.surface = prm.get("Surface");
-        if (b.surface.empty())
-          throw InputError("Bearing " + name +
-                           "/Surface is not set; name the physical surface "
-                           "(shaft end face) the bearing acts on.");
+        b.station.parse_parameters(prm, "Bearing " + name);
         double v[8];
         for (unsigned int i = 0; i < 8; ++i)
           v[i] = prm.get_double(names[i]);
@@ -149,62 +140,10 @@ namespace rotorfit
   }
 
   void
-  Bearings::setup(const AssemblyMesh &mesh, const DoFHandler<3> &dof_handler)
+  Bearings::setup(const Discretization &model, Log &log)
   {
-    const auto            &fe = dof_handler.get_fe();
-    const QGaussSimplex<2> face_quadrature(fe.degree + 2);
-    FEFaceValues<3>        fe_face(mesh.mapping(),
-                            fe,
-                            face_quadrature,
-                            update_values | update_JxW_values |
-                              update_quadrature_points);
-    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
     for (auto &b : bearings)
-      {
-        mesh.check_surface_exists(b.surface, "Bearing " + b.name + "/Surface");
-        // weight of every scalar node: int_face N_i dA, keyed by its x DoF
-        std::map<types::global_dof_index, std::pair<types::global_dof_index, double>> w;
-        double z_area = 0;
-        b.area        = 0;
-        for (const auto &cell : dof_handler.active_cell_iterators())
-          for (const unsigned int f : cell->face_indices())
-            if (cell->face(f)->at_boundary() &&
-                mesh.face_on_surface(b.surface, cell, f))
-              {
-                fe_face.reinit(cell, f);
-                cell->get_dof_indices(dofs);
-                const auto on_face = cell_dofs_on_face(cell, f);
-                for (unsigned int q = 0; q < face_quadrature.size(); ++q)
-                  {
-                    b.area += fe_face.JxW(q);
-                    z_area += fe_face.quadrature_point(q)[2] * fe_face.JxW(q);
-                    for (const unsigned int i : on_face)
-                      if (fe.system_to_component_index(i).first == 0)
-                        {
-                          // the y DoF of the same node: same scalar index
-                          const unsigned int iy = fe.component_to_system_index(
-                            1, fe.system_to_component_index(i).second);
-                          auto &e = w[dofs[i]];
-                          e.first = dofs[iy];
-                          e.second += fe_face.shape_value(i, q) * fe_face.JxW(q);
-                        }
-                  }
-              }
-        if (!(b.area > 0))
-          throw InputError("Bearing " + b.name + "/Surface = '" + b.surface +
-                           "' has no boundary faces in the mesh.");
-        b.z = z_area / b.area;
-        b.dof_x.clear();
-        b.dof_y.clear();
-        b.weight.clear();
-        for (const auto &[dx, e] : w)
-          if (e.second != 0)
-            {
-              b.dof_x.push_back(dx);
-              b.dof_y.push_back(e.first);
-              b.weight.push_back(e.second / b.area);
-            }
-      }
+      b.station.setup(model, log);
   }
 
   void
@@ -212,8 +151,8 @@ namespace rotorfit
   {
     for (const auto &b : bearings)
       {
-        std::vector<types::global_dof_index> all(b.dof_x);
-        all.insert(all.end(), b.dof_y.begin(), b.dof_y.end());
+        std::vector<types::global_dof_index> all(b.station.dof_x);
+        all.insert(all.end(), b.station.dof_y.begin(), b.station.dof_y.end());
         std::sort(all.begin(), all.end());
         for (const auto i : all)
           if (dsp.row_index_set().size() == 0 || dsp.row_index_set().is_element(i))
@@ -267,7 +206,7 @@ namespace rotorfit
     const auto range = k_matrix.local_range();
     for (unsigned int n = 0; n < bearings.size(); ++n)
       {
-        const Bearing &b = bearings[n];
+        const Station &b = bearings[n].station;
         Coefficients   k, c;
         coefficients(n, rpm, k, c);
         // (row direction, column direction) -> coefficient index

@@ -142,7 +142,7 @@ namespace rotorfit
       return;
     const auto &dof_handler = model.dofs();
     const auto &fe          = dof_handler.get_fe();
-    bearings.setup(model.mesh(), dof_handler);
+    bearings.setup(model, log);
 
     body_of_dof.assign(dof_handler.n_dofs(), 0);
     std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
@@ -208,8 +208,10 @@ namespace rotorfit
         const auto         &b = bearings.list()[n];
         Bearings::Coefficients k, c;
         bearings.coefficients(n, 0., k, c);
-        log << "  bearing " << b.name << " on " << b.surface << ": area " << b.area * 1e6
-            << " mm^2 at z = " << b.z << " m, " << b.weight.size() << " weighted nodes, "
+        const Station &s = b.station;
+        log << "  bearing " << b.name << " on " << (s.is_band() ? s.describe() : s.surface)
+            << ": area " << s.area * 1e6 << " mm^2 at z = " << s.z << " m, "
+            << s.weight.size() << " weighted nodes, "
             << (b.table.empty() ? "" : "at rest (speed table " + b.table_file + ") ") << "kxx "
             << k[0] << ", kyy " << k[1] << ", kxy " << k[2] << ", kyx " << k[3] << " N/m, cxx "
             << c[0] << ", cyy " << c[1] << ", cxy " << c[2] << ", cyx " << c[3] << " N s/m\n";
@@ -250,8 +252,9 @@ namespace rotorfit
     // distinct bearing stations per group decide which rigid motions remain
     std::map<unsigned int, std::set<long>> stations_of;
     for (const auto &b : bearings.list())
-      if (!b.dof_x.empty())
-        stations_of[find(body_of_dof[b.dof_x[0]])].insert(std::lround(b.z * 1e6));
+      if (!b.station.dof_x.empty())
+        stations_of[find(body_of_dof[b.station.dof_x[0]])].insert(
+          std::lround(b.station.z * 1e6));
     unsigned int main = find(0), best = 0;
     for (const auto &[g, s] : stations_of)
       if (s.size() > best)

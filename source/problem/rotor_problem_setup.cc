@@ -103,7 +103,8 @@ namespace rotorfit
           claim(f.hub_surface, "Interface " + f.name, one_interface);
       }
     for (const auto &b : eigen.bearing_list().list())
-      claim(b.surface, "Bearing " + b.name,
+      if (!b.station.is_band()) // a band is checked against the fits on the mesh
+      claim(b.station.surface, "Bearing " + b.name,
             "a bearing acts on a shaft surface of its own (a fit surface is "
             "inside the assembly; two bearings on one face double its "
             "stiffness: add their coefficients into one bearing).");

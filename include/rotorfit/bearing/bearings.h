@@ -1,6 +1,6 @@
 #pragma once
 
-#include <rotorfit/mesh/assembly_mesh.h>
+#include <rotorfit/model/station.h>
 
 #include <deal.II/base/parameter_handler.h>
 
@@ -17,8 +17,9 @@ namespace rotorfit
 {
   /**
    * Bearings: stationary springs and dampers on the area-averaged lateral
-   * displacement of a shaft end face (doc/theory.md 5.1, RBE3-like). With the
-   * weights a_i = (1/A) int_face N_i dA, u_x = sum a_i U_ix, and
+   * displacement of a station (model/station.h: a shaft end face, a journal
+   * band the .geo marks, or a band given by axial position and width;
+   * doc/theory.md 5.1, RBE3-like). With the station's weights a_i, and
    * K = sum_{ab} k_ab a_a a_b^T, C = sum_{ab} c_ab a_a a_b^T (a, b in {x, y}).
    * No torsional or ovalisation restraint; exact for rigid motion.
    *
@@ -36,16 +37,11 @@ namespace rotorfit
     struct Bearing
     {
       std::string  name;
-      std::string  surface;
+      Station      station;
       Coefficients k{}, c{};
       /// rows: speed_rpm, kxx, kyy, kxy, kyx, cxx, cyy, cxy, cyx
       std::vector<std::array<double, 9>> table;
       std::string                        table_file;
-
-      // from the mesh
-      std::vector<dealii::types::global_dof_index> dof_x, dof_y;
-      std::vector<double>                          weight; ///< a_i, sum 1
-      double                                       area = 0, z = 0;
     };
 
     static void
@@ -59,9 +55,9 @@ namespace rotorfit
     parse_parameters(dealii::ParameterHandler &prm,
                      const std::string        &prm_directory);
 
-    /// Face weights; an unknown or empty surface is an input error.
+    /// Station weights; an unknown or empty station is an input error.
     void
-    setup(const AssemblyMesh &mesh, const dealii::DoFHandler<3> &dof_handler);
+    setup(const Discretization &model, Log &log);
 
     void
     add_sparsity(dealii::DynamicSparsityPattern &dsp) const;

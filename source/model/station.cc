@@ -1,0 +1,269 @@
+#include <rotorfit/base/dof_utilities.h>
+#include <rotorfit/base/format.h>
+#include <rotorfit/base/input_error.h>
+#include <rotorfit/model/station.h>
+
+#include <deal.II/base/quadrature_lib.h>
+
+#include <deal.II/fe/fe_values.h>
+
+#include <cmath>
+#include <iomanip>
+#include <map>
+#include <sstream>
+
+namespace rotorfit
+{
+  using namespace dealii;
+
+  namespace
+  {
+    /// A triangle rule on n x n sub-triangles (3 points each): a band cut at
+    /// its points has edges sharp to about h / (2 n), h the face size.
+    Quadrature<2>
+    subdivided_triangle_rule(const unsigned int n)
+    {
+      const QGaussSimplex<2> base(2);
+      std::vector<Point<2>>  points;
+      std::vector<double>    weights;
+      const auto add = [&](const Point<2> &a, const Point<2> &b, const Point<2> &c) {
+        for (unsigned int q = 0; q < base.size(); ++q)
+          {
+            const Point<2> &x = base.point(q);
+            points.push_back(a + x[0] * (b - a) + x[1] * (c - a));
+            weights.push_back(base.weight(q) / (n * n));
+          }
+      };
+      const double h = 1. / n;
+      for (unsigned int i = 0; i < n; ++i)
+        for (unsigned int j = 0; i + j < n; ++j)
+          {
+            const Point<2> p(i * h, j * h);
+            add(p, p + Point<2>(h, 0), p + Point<2>(0, h));
+            if (i + j + 1 < n)
+              add(p + Point<2>(h, 0), p + Point<2>(h, h), p + Point<2>(0, h));
+          }
+      return Quadrature<2>(points, weights);
+    }
+  } // namespace
+
+  void
+  Station::declare_parameters(ParameterHandler &prm, const std::string &what)
+  {
+    prm.declare_entry("Surface",
+                      "",
+                      Patterns::Anything(),
+                      "Physical surface of the .geo " + what +
+                        " acts on (a shaft end face, or a band the geometry "
+                        "marks). Or leave it empty and give Body, Axial position "
+                        "and Width.");
+    prm.declare_entry("Body",
+                      "",
+                      Patterns::Anything(),
+                      "With Axial position and Width instead of Surface: the "
+                      "body whose outer surface carries the band.");
+    prm.declare_entry("Axial position",
+                      "",
+                      Patterns::Anything(),
+                      "z of the band's middle [m] (with Body and Width).");
+    prm.declare_entry("Width",
+                      "0.005",
+                      Patterns::Double(0),
+                      "Axial width of the band [m] (with Body and Axial "
+                      "position; > 0; the band is cut at the face quadrature "
+                      "points, so a width below the surface mesh size is "
+                      "resolved coarsely).");
+  }
+
+  void
+  Station::parse_parameters(ParameterHandler &prm, const std::string &owner_name)
+  {
+    owner   = owner_name;
+    surface = prm.get("Surface");
+    body    = prm.get("Body");
+    width   = prm.get_double("Width");
+    const std::string z_text = prm.get("Axial position");
+    if (!surface.empty() && (!body.empty() || !z_text.empty()))
+      throw InputError(owner + ": give either Surface or Body with Axial position and "
+                               "Width, not both.");
+    if (surface.empty() && (body.empty() || z_text.empty()))
+      throw InputError(owner + ": no station: set Surface (a physical surface of the "
+                               ".geo), or Body, Axial position and Width (a band of the "
+                               "body's outer surface).");
+    if (!surface.empty())
+      return;
+    try
+      {
+        std::size_t used = 0;
+        axial_position   = std::stod(z_text, &used);
+        if (z_text.find_first_not_of(" \t", used) != std::string::npos ||
+            !std::isfinite(axial_position))
+          throw std::invalid_argument(z_text);
+      }
+    catch (const std::exception &)
+      {
+        throw InputError(owner + "/Axial position = '" + z_text + "' is not a number [m].");
+      }
+    if (!(width > 0))
+      throw InputError(owner + "/Width = " + format_number(width) +
+                       ": a band needs a width > 0 [m].");
+  }
+
+  std::string
+  Station::describe() const
+  {
+    if (!is_band())
+      return "surface '" + surface + "'";
+    std::ostringstream s;
+    s << "band z = " << format_number(axial_position) << " m, w = " << format_number(width * 1e3)
+      << " mm on body '" << body << "'";
+    return s.str();
+  }
+
+  void
+  Station::setup(const Discretization &model, Log &log)
+  {
+    const auto &mesh        = model.mesh();
+    const auto &dof_handler = model.dofs();
+    const auto &fe          = dof_handler.get_fe();
+    types::material_id body_id = numbers::invalid_material_id;
+    if (is_band())
+      {
+        for (unsigned int b = 0; b < model.bodies().size(); ++b)
+          if (model.bodies()[b].name == body)
+            body_id = b;
+        if (body_id == numbers::invalid_material_id)
+          {
+            std::string names;
+            for (const auto &b : model.bodies().list())
+              names += (names.empty() ? "" : ", ") + b.name;
+            throw InputError(owner + "/Body = '" + body + "' is not a body (Bodies = " + names +
+                             ").");
+          }
+      }
+    else
+      mesh.check_surface_exists(surface, owner + "/Surface");
+    std::vector<std::string> fit_surfaces;
+    for (const auto &f : model.interfaces().list())
+      fit_surfaces.insert(fit_surfaces.end(), {f.shaft_surface, f.hub_surface});
+
+    // a band is cut at quadrature points: a rich rule keeps its edges sharp
+    const Quadrature<2> face_quadrature =
+      is_band() ? subdivided_triangle_rule(8) : Quadrature<2>(QGaussSimplex<2>(fe.degree + 2));
+    FEFaceValues<3>        fe_face(mesh.mapping(),
+                            fe,
+                            face_quadrature,
+                            update_values | update_JxW_values | update_quadrature_points |
+                              update_normal_vectors);
+    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+    // weight of every scalar node, keyed by its x DoF: (y DoF, int N_i dA)
+    std::map<types::global_dof_index, std::pair<types::global_dof_index, double>> w;
+    double      z_area = 0, r_area = 0, z_min = 1e300, z_max = -1e300;
+    std::string on_fit;
+    area = 0;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      for (const unsigned int f : cell->face_indices())
+        {
+          if (!cell->face(f)->at_boundary())
+            continue;
+          if (is_band() ? cell->material_id() != body_id :
+                          !mesh.face_on_surface(surface, cell, f))
+            continue;
+          if (is_band())
+            {
+              // only faces near the band (the vertices bound a curved face
+              // up to its sag, far below the margin of a face's extent)
+              double lo = 1e300, hi = -1e300;
+              for (const unsigned int v : cell->face(f)->vertex_indices())
+                {
+                  lo = std::min(lo, cell->face(f)->vertex(v)[2]);
+                  hi = std::max(hi, cell->face(f)->vertex(v)[2]);
+                }
+              const double margin = 0.5 * (hi - lo);
+              if (hi + margin < axial_position - width / 2 ||
+                  lo - margin > axial_position + width / 2)
+                continue;
+            }
+          fe_face.reinit(cell, f);
+          std::vector<unsigned int> points;
+          for (unsigned int q = 0; q < face_quadrature.size(); ++q)
+            {
+              const Point<3> &x = fe_face.quadrature_point(q);
+              if (is_band())
+                {
+                  const double r = std::hypot(x[0], x[1]);
+                  const auto  &n = fe_face.normal_vector(q);
+                  if (r == 0 || (n[0] * x[0] + n[1] * x[1]) / r <= 0.5 ||
+                      std::abs(x[2] - axial_position) > width / 2)
+                    continue;
+                }
+              points.push_back(q);
+            }
+          if (points.empty())
+            continue;
+          if (is_band())
+            for (const auto &s : fit_surfaces)
+              if (mesh.face_on_surface(s, cell, f))
+                on_fit = s;
+          cell->get_dof_indices(dofs);
+          const auto on_face = cell_dofs_on_face(cell, f);
+          for (const unsigned int q : points)
+            {
+              const Point<3> &x = fe_face.quadrature_point(q);
+              area += fe_face.JxW(q);
+              z_area += x[2] * fe_face.JxW(q);
+              r_area += std::hypot(x[0], x[1]) * fe_face.JxW(q);
+              z_min = std::min(z_min, x[2]);
+              z_max = std::max(z_max, x[2]);
+              for (const unsigned int i : on_face)
+                if (fe.system_to_component_index(i).first == 0)
+                  {
+                    // the y DoF of the same node: same scalar index
+                    const unsigned int iy =
+                      fe.component_to_system_index(1, fe.system_to_component_index(i).second);
+                    auto &e = w[dofs[i]];
+                    e.first = dofs[iy];
+                    e.second += fe_face.shape_value(i, q) * fe_face.JxW(q);
+                  }
+            }
+        }
+    if (!on_fit.empty())
+      throw InputError(owner + ": the " + describe() + " overlaps the fit surface '" + on_fit +
+                       "'; a station acts on a free surface of the shaft (move the band "
+                       "or narrow it).");
+    if (!(area > 0))
+      throw InputError(owner + ": the " + describe() +
+                       (is_band() ? " meets no outer surface of the body (is the axial "
+                                    "position inside the body's length and outside its fits?)" :
+                                    " has no boundary faces in the mesh") +
+                       ".");
+    z      = z_area / area;
+    radius = r_area / area;
+    dof_x.clear();
+    dof_y.clear();
+    weight.clear();
+    for (const auto &[dx, e] : w)
+      if (e.second != 0)
+        {
+          dof_x.push_back(dx);
+          dof_y.push_back(e.first);
+          weight.push_back(e.second / area);
+        }
+    if (is_band())
+      {
+        const double nominal = 2 * M_PI * radius * width;
+        std::ostringstream m;
+        m << std::setprecision(4) << "  " << owner << ": " << describe() << ": r " << radius * 1e3
+          << " mm, found z " << z_min * 1e3 << " .. " << z_max * 1e3 << " mm, area "
+          << area * 1e6 << " mm^2 = " << std::setprecision(3) << area / nominal
+          << " x 2 pi r w, " << weight.size() << " nodes\n";
+        log << m.str();
+        if (area < 0.75 * nominal || area > 1.33 * nominal)
+          log << "Warning: " << owner << ": the band's area is " << std::setprecision(3)
+              << area / nominal
+              << " x 2 pi r w: the surface mesh resolves this width coarsely, or the band "
+                 "covers an edge or a step; mark the band as a physical surface in the "
+                 ".geo for an exact one.\n";
+      }
+  }
+} // namespace rotorfit
