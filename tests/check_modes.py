@@ -15,6 +15,14 @@ writes it).
       stiff short cylinder on two bearings at its end faces: translation,
       forward/backward tilt and translation damping within TOL of doc/theory.md 10d at
       every speed, forward rising and backward falling, 1X critical speeds.
+  check_modes.py unbalance EXE PRM OUT TOL AF_TOL
+      stiff short cylinder on two damped isotropic bearings (end faces or
+      bands) with unbalance masses: the complex amplitude of every probe
+      (bearings, unbalance stations, probes) within TOL of the speed's largest
+      amplitude (bounds amplitude and phase) of the rigid-rotor forced response of doc/theory.md 13.4 at
+      every speed; with one unbalance in the middle (a Jeffcott rotor) the
+      peak speed within TOL and the half-power amplification factor within
+      AF_TOL of 1/(2 zeta), and the separation margin from the operating range.
   check_modes.py bearing_table EXE PRM OUT TOL
       rigid rotor on tabulated bearings: translation frequency and damping
       follow the interpolated k(Omega), c(Omega) within TOL.
@@ -39,6 +47,7 @@ writes it).
       the run fails with exit code 2 and TEXT in its output; summary.txt
       says failed, where and why; campbell.csv keeps the speeds done before.
 """
+import cmath
 import csv
 import math
 import os
@@ -260,6 +269,123 @@ def check_rigid_rotor(exe, prm, out, tol):
     return 0 if ok else 1
 
 
+def subsections(text, kind):
+    """{name: body text} of the 'subsection KIND name' of each name the list
+    'KINDs' of a .prm gives."""
+    names = re.search(r"^set " + kind + r"s\s*=(.*)$", text, re.M)
+    names = [n.strip() for n in names.group(1).split(",") if n.strip()] if names else []
+    return {m.group(1): m.group(2) for m in
+            re.finditer(r"subsection " + kind + r" (\w+)\n(.*?)\nend", text, re.S)
+            if m.group(1) in names}
+
+
+def rigid_forced_response(m, Ip, Id, zc, bearings, unbalances, omega):
+    """Rigid rotor, isotropic bearings [(z, k, c)], unbalances [(z, m e, phase
+    rad)], spin omega: complex (R, Phi) with the lateral displacement
+    x + i y = (R + Phi (z - zc)) e^{i omega t} (doc/theory.md 13.4):
+      [-m w^2 + sum s_j] R + sum s_j d_j Phi = sum F_u
+      sum s_j d_j R + [(Ip - Id) w^2 + sum s_j d_j^2] Phi = sum F_u d_u
+    with s_j = k_j + i w c_j, d = z - zc, F_u = m e w^2 e^{i phase}."""
+    w = omega
+    s = [(z - zc, k + 1j * w * c) for z, k, c in bearings]
+    a11 = -m * w * w + sum(x for _, x in s)
+    a12 = sum(d * x for d, x in s)
+    a22 = (Ip - Id) * w * w + sum(d * d * x for d, x in s)
+    f1 = sum(me * w * w * complex(math.cos(ph), math.sin(ph)) for _, me, ph in unbalances)
+    f2 = sum((z - zc) * me * w * w * complex(math.cos(ph), math.sin(ph))
+             for z, me, ph in unbalances)
+    det = a11 * a22 - a12 * a12
+    return (f1 * a22 - a12 * f2) / det, (a11 * f2 - a12 * f1) / det
+
+
+def check_unbalance(exe, prm, out, tol, af_tol):
+    tol, af_tol = float(tol), float(af_tol)
+    run_test.run(exe, prepare(prm, out))
+    text = open(prm).read()
+    m, Ip, Id = cylinder(text)
+    L = geometry(text, "L")
+
+    def station(body):
+        z = re.search(r"set Axial position\s*=\s*([-+0-9.eE]+)", body)
+        if z:
+            return float(z.group(1))
+        return {"end_left": 0.0, "end_right": L}[re.search(r"set Surface\s*=\s*(\w+)", body).group(1)]
+    bearings = {n: (station(b), value(b, "kxx"), value(b, "cxx"))
+                for n, b in subsections(text, "Bearing").items()}
+    unbalances = {n: (station(b), value(b, "Mass eccentricity"),
+                      math.radians(value(b, "Phase") if "Phase" in b else 0.0))
+                  for n, b in subsections(text, "Unbalance").items()}
+    probes = {n: v[0] for n, v in list(bearings.items()) + list(unbalances.items())}
+    probes.update({n: station(b) for n, b in subsections(text, "Probe").items()})
+    ok = True
+    worst = 0.0
+    table = rows(out, "response.csv")
+    # the largest amplitude of each speed: a probe near a node of the
+    # deflected shape is judged against the response level of its speed
+    level = {}
+    for r in table:
+        level[r["speed_rpm"]] = max(level.get(r["speed_rpm"], 0.0), float(r["amplitude_x_m"]))
+    for r in table:
+        rpm, probe = float(r["speed_rpm"]), r["probe"]
+        omega = rpm * math.pi / 30
+        if omega == 0:
+            continue
+        R, Phi = rigid_forced_response(m, Ip, Id, L / 2, list(bearings.values()),
+                                       list(unbalances.values()), omega)
+        want = R + Phi * (probes[probe] - L / 2)   # X; Y = -i X
+        lag = math.radians(float(r["phase_x_deg"]))
+        got = float(r["amplitude_x_m"]) * complex(math.cos(lag), -math.sin(lag))
+        scale = max(abs(want), level[r["speed_rpm"]])
+        err = abs(got - want) / scale
+        worst = max(worst, err)
+        line_tol = tol * scale / abs(want)
+        ok &= report(f"{rpm:g} r/min {probe} x amplitude [m]", abs(got), abs(want), line_tol)
+        # phase lags [deg], got unwrapped next to want, both + 360 for a
+        # relative tolerance (0.5 % of 360..540 deg: 1.8..2.7 deg)
+        w_lag = -math.degrees(cmath.phase(want))
+        g_lag = w_lag + (-math.degrees(cmath.phase(got)) - w_lag + 180) % 360 - 180
+        ok &= report(f"{rpm:g} r/min {probe} x phase lag + 360 [deg]", g_lag + 360, w_lag + 360,
+                     line_tol)
+        good = err <= tol and r["whirl"] == "forward" and r["converged"] == "1"
+        if not good:
+            print(f"{rpm:g} r/min {probe}: complex error {err:.3e} of the speed's largest "
+                  f"amplitude, whirl {r['whirl']}, converged {r['converged']} FAILED")
+        ok &= good
+    print(f"worst complex amplitude error {worst:.3e} of the speed's largest amplitude "
+          f"(tolerance {tol:g})")
+    ub = list(unbalances.values())
+    if len(ub) == 1 and abs(ub[0][0] - L / 2) < 1e-9:
+        # Jeffcott: X = m e w^2 / (k - m w^2 + i c w), peak at
+        # w_n / sqrt(1 - 2 zeta^2), half-power AF -> 1 / (2 zeta)
+        k = sum(b[1] for b in bearings.values())
+        c = sum(b[2] for b in bearings.values())
+        zeta = c / (2 * math.sqrt(k * m))
+        peak_rpm = 30 / math.pi * math.sqrt(k / m) / math.sqrt(1 - 2 * zeta**2)
+        peaks = [p for p in rows(out, "response_peaks.csv") if p["probe"] in bearings]
+        if len(peaks) != len(bearings):
+            print(f"peaks of the bearing probes: {len(peaks)}, expected {len(bearings)} FAILED")
+            ok = False
+        lo_hi = re.search(r"set Operating speed range\s*=\s*([-+0-9.eE]+)\s*,\s*([-+0-9.eE]+)", text)
+        for p in peaks:
+            af = float(p["amplification_factor"])
+            ok &= report(f"{p['probe']} peak speed [r/min]", float(p["speed_rpm"]), peak_rpm, tol)
+            ok &= report(f"{p['probe']} amplification factor", af, 1 / (2 * zeta), af_tol)
+            if lo_hi:
+                lo, hi = float(lo_hi.group(1)), float(lo_hi.group(2))
+                n = float(p["speed_rpm"])
+                sm = 100 * ((lo - n) / lo if n < lo else (n - hi) / hi)
+                req = min(16, 17 * (1 - 1 / (af - 1.5))) if n < lo else \
+                    min(26, 10 + 17 * (1 - 1 / (af - 1.5)))
+                ok &= report(f"{p['probe']} separation margin [%]",
+                             float(p["separation_margin_percent"]), sm, 1e-6, False)
+                ok &= report(f"{p['probe']} required margin [%]",
+                             float(p["required_margin_percent"]), req, 1e-6, False)
+                good = p["margin_ok"] == ("yes" if sm >= req else "no")
+                print(f"{p['probe']}: margin_ok {p['margin_ok']}", "ok" if good else "FAILED")
+                ok &= good
+    return 0 if ok else 1
+
+
 def check_bearing_table(exe, prm, out, tol):
     """Translation mode of the rigid rotor on tabulated bearings: frequency
     sqrt(2 k/m) and damping ratio c/sqrt(2 k m) with k, c interpolated."""
@@ -470,7 +596,8 @@ if __name__ == "__main__":
     checks = {"timoshenko": check_timoshenko, "rigid_rotor": check_rigid_rotor,
               "free_spin": check_free_spin, "pair_shift": check_pair_shift,
               "loss_of_fit": check_loss_of_fit, "fixed": check_fixed,
-              "stiffening": check_stiffening, "bearing_table": check_bearing_table, "mpi": check_mpi, "failure": check_failure}
+              "stiffening": check_stiffening, "bearing_table": check_bearing_table,
+              "unbalance": check_unbalance, "mpi": check_mpi, "failure": check_failure}
     if mode not in checks:
         sys.exit(f"unknown mode {mode}")
     status = checks[mode](*args)

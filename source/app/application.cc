@@ -71,26 +71,27 @@ namespace rotorfit
         else
           handler.parse_input(file, "", skip_undefined);
       };
-      std::vector<std::string> bodies, interfaces, bearings;
+      CaseNames names;
       try
         {
           ParameterHandler first;
-          RotorProblem::declare_parameters(first, {}, {}, {});
+          RotorProblem::declare_parameters(first, {});
           read(first, true);
-          bodies = Utilities::split_string_list(first.get("Bodies"), ',');
-          interfaces =
-            Utilities::split_string_list(first.get("Interfaces"), ',');
-          bearings = Utilities::split_string_list(first.get("Bearings"), ',');
-          check_unique(interfaces, file + ": Interfaces");
-          check_unique(bearings, file + ": Bearings");
-          RotorProblem::declare_parameters(prm, bodies, interfaces, bearings);
+          const auto list = [&](const char *entry) {
+            auto v = Utilities::split_string_list(first.get(entry), ',');
+            check_unique(v, file + ": " + entry);
+            return v;
+          };
+          names = {list("Bodies"), list("Interfaces"), list("Bearings"), list("Unbalances"),
+                   list("Probes")};
+          RotorProblem::declare_parameters(prm, names);
           read(prm, false);
         }
       catch (const ExceptionBase &e)
         {
           throw InputError(file + ": " + message_of(e));
         }
-      if (bodies.empty())
+      if (names.bodies.empty())
         throw InputError(file + ": 'Bodies' is empty; name at least one body.");
     }
 
@@ -124,7 +125,8 @@ namespace rotorfit
           return exit_code::input_error;
         }
       ParameterHandler prm;
-      RotorProblem::declare_parameters(prm, {"<name>"}, {"<name>"}, {"<name>"});
+      RotorProblem::declare_parameters(
+        prm, {{"<name>"}, {"<name>"}, {"<name>"}, {"<name>"}, {"<name>"}});
       if (root)
         prm.print_parameters(std::cout,
                              format == "json" ? ParameterHandler::JSON : ParameterHandler::Text);

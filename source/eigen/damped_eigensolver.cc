@@ -168,6 +168,19 @@ namespace rotorfit
   }
 
   void
+  replicated_solve(const DirectSolver                     &solver,
+                   const PETScWrappers::MPI::SparseMatrix &layout,
+                   const Vector<double>                   &b,
+                   Vector<double>                         &x)
+  {
+    Work work(layout);
+    scatter(b, 0, work.a);
+    solver.solve(work.b, work.a);
+    x.reinit(b.size(), true);
+    gather(work.b, x, 0);
+  }
+
+  void
   replicated_vmult(const PETScWrappers::MPI::SparseMatrix &A,
                    const ComplexVector                    &x,
                    ComplexVector                          &y)

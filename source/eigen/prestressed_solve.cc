@@ -53,6 +53,7 @@ namespace rotorfit
             solution.isotropic_supports = false;
       }
     assemble_tangent(state, solution.tied);
+    last_rpm = state.rpm;
     if (self_check && checks.empty() && state.rpm > 0)
       matrix_checks(state);
     std::vector<bool>  loose_body;

@@ -96,7 +96,9 @@ namespace rotorfit
           // mistaken for this run's
           for (const char *f : {"summary.txt", "contact.csv", "pair_openings.csv",
                                 "campbell.csv", "critical_speeds.csv", "rigid_modes.csv",
-                                "campbell.png", "plot.log"})
+                                "campbell.png", "plot.log", "response.csv",
+                                "response_peaks.csv", "stability_onsets.csv", "contact.png",
+                                "response_bode.png", "response_polar.png"})
             std::filesystem::remove(output_dir + "/" + f, ec);
           std::ofstream out(output_dir + "/parameters.prm");
           prm.print_parameters(out, ParameterHandler::ShortPRM);
@@ -116,8 +118,9 @@ namespace rotorfit
   }
 
   void
-  Results::open(const Discretization &model, const bool with_modes)
+  Results::open(const Discretization &model, const bool with_modes, const bool response)
   {
+    with_response = response;
     if (write_paraview || (with_modes && write_shapes))
       paraview = std::make_unique<ParaViewOutput>(model, output_dir);
     if (!root)
@@ -130,6 +133,15 @@ namespace rotorfit
         critical.open(output_dir);
         rigid.open(output_dir);
       }
+    if (with_response)
+      responses.open(output_dir);
+  }
+
+  void
+  Results::add(const std::vector<ResponsePeak> &peaks)
+  {
+    if (root && prepared && with_response)
+      write_response_peaks(output_dir, peaks);
   }
 
   void

@@ -1,5 +1,7 @@
 #include <rotorfit/output/tables.h>
 
+#include <cmath>
+#include <complex>
 #include <iomanip>
 
 namespace rotorfit
@@ -127,5 +129,54 @@ namespace rotorfit
       file << modes.rpm << ',' << r.kind << ',' << r.body << ',' << r.lambda.real() << ','
            << r.lambda.imag() / (2 * M_PI) << ',' << r.backward_error << '\n';
     file << std::flush;
+  }
+} // namespace rotorfit
+
+namespace rotorfit
+{
+  void
+  ResponseTable::open(const std::string &directory)
+  {
+    create(directory + "/response.csv",
+           "speed_rpm,probe,fit_state,amplitude_x_m,phase_x_deg,amplitude_y_m,phase_y_deg,"
+           "major_m,minor_m,whirl,residual,basis_size,converged",
+           8);
+  }
+
+  void
+  ResponseTable::add(const ResponseAtSpeed &r)
+  {
+    if (!file.is_open())
+      return;
+    // phase lag: x(t) = |X| cos(Omega t - phase), phase in (-180, 180]
+    const auto lag = [](const std::complex<double> z) {
+      return z == 0. ? 0. : -std::arg(z) * 180 / M_PI;
+    };
+    for (const auto &p : r.probes)
+      {
+        const double f = p.forward(), b = p.backward();
+        file << r.rpm << ',' << p.probe << ',' << r.fit_state << ',' << std::abs(p.x) << ','
+             << lag(p.x) << ',' << std::abs(p.y) << ',' << lag(p.y) << ',' << f + b << ','
+             << std::abs(f - b) << ',' << (f >= b ? "forward" : "backward") << ','
+             << r.residual << ',' << r.basis_size << ',' << (r.converged ? 1 : 0) << '\n';
+      }
+    file << std::flush;
+  }
+
+  void
+  write_response_peaks(const std::string &directory, const std::vector<ResponsePeak> &peaks)
+  {
+    std::ofstream out(directory + "/response_peaks.csv");
+    out << "probe,speed_rpm,major_m,amplification_factor,half_power_low_rpm,"
+           "half_power_high_rpm,separation_margin_percent,required_margin_percent,margin_ok,"
+           "fit_state\n"
+        << std::setprecision(8);
+    for (const auto &p : peaks)
+      out << p.probe << ',' << p.rpm << ',' << p.amplitude << ',' << p.amplification_factor
+          << ',' << p.low_rpm << ',' << p.high_rpm << ',' << p.separation_margin << ','
+          << p.required_margin << ','
+          << (std::isnan(p.required_margin) ? "n/a" :
+              p.separation_margin >= p.required_margin ? "yes" : "no")
+          << ',' << p.fit_state << '\n';
   }
 } // namespace rotorfit

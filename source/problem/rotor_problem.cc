@@ -40,7 +40,12 @@ namespace rotorfit
             // active-set change needs the static one (at most one more
             // factorisation per speed where the contact changes)
             statics.release_factorization();
-            EigenSolution      solution = eigen.solve(state);
+            EigenSolution solution = eigen.solve(state);
+            if (response.enabled())
+              {
+                TimerOutput::Scope t(timer, "unbalance response");
+                results.add(response.solve(state, eigen.operators(), solution.elastic));
+              }
             TimerOutput::Scope t(timer, "modal analysis + output");
             results.add(state, modal.analyse(std::move(solution)));
             ++modal_steps;
@@ -63,7 +68,7 @@ namespace rotorfit
     statics.assemble(std::pow(SpeedSchedule::rpm_to_rad_per_s(speeds.speeds_rpm().back()), 2));
     assembled = true; // from here on summary.txt has the static entries
     eigen.assemble_speed_independent_matrices();
-    results.open(model, eigen.enabled());
+    results.open(model, eigen.enabled(), response.enabled());
     sweep_start = std::chrono::steady_clock::now();
   }
 
@@ -121,6 +126,8 @@ namespace rotorfit
         eigen.finish(summary);
         if (modal_steps > 0)
           modal.finish(summary);
+        response.finish(summary);
+        results.add(response.peaks());
       }
     summary.add("run.status", status);
     summary.add("run.exit_code", exit_code);

@@ -24,14 +24,12 @@ namespace rotorfit
     , statics(model, log, timer)
     , eigen(model, log, timer)
     , modal(log)
+    , response(model, log)
     , results(comm, log)
   {}
 
   void
-  RotorProblem::declare_parameters(ParameterHandler               &prm,
-                                   const std::vector<std::string> &bodies,
-                                   const std::vector<std::string> &interfaces,
-                                   const std::vector<std::string> &bearings)
+  RotorProblem::declare_parameters(ParameterHandler &prm, const CaseNames &names)
   {
     Discretization::declare_parameters(prm);
     SpeedSchedule::declare_parameters(prm);
@@ -39,9 +37,11 @@ namespace rotorfit
     PrestressedEigenproblem::declare_parameters(prm);
     ModalAnalysis::declare_parameters(prm);
     Results::declare_parameters(prm);
-    Bodies::declare_parameters(prm, bodies);
-    ContactInterfaces::declare_parameters(prm, interfaces);
-    Bearings::declare_parameters(prm, bearings);
+    Bodies::declare_parameters(prm, names.bodies);
+    ContactInterfaces::declare_parameters(prm, names.interfaces);
+    Bearings::declare_parameters(prm, names.bearings);
+    UnbalanceResponse::declare_lists(prm);
+    UnbalanceResponse::declare_parameters(prm, names.unbalances, names.probes);
     prm.enter_subsection("Contact");
     prm.declare_entry("On loss of fit",
                       "continue",
@@ -62,6 +62,7 @@ namespace rotorfit
     statics.parse_parameters(prm);
     eigen.parse_parameters(prm, prm_directory, statics.spin_softening_on());
     modal.parse_parameters(prm);
+    response.parse_parameters(prm, eigen.enabled());
     results.parse_parameters(prm, output_override);
     prm.enter_subsection("Contact");
     stop_on_loss_of_fit = prm.get("On loss of fit") == "stop";
@@ -77,6 +78,7 @@ namespace rotorfit
     eigen.setup();
     if (eigen.enabled())
       modal.setup(model);
+    response.setup(eigen.bearing_list());
     check_resources();
   }
 

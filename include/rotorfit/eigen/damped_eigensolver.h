@@ -120,6 +120,14 @@ namespace rotorfit
                    const dealii::Vector<double>                   &x,
                    dealii::Vector<double>                         &y);
 
+  /// x = A^{-1} b for replicated vectors with @p solver's factorisation of
+  /// A (@p layout: a matrix with A's row distribution).
+  void
+  replicated_solve(const DirectSolver                             &solver,
+                   const dealii::PETScWrappers::MPI::SparseMatrix &layout,
+                   const dealii::Vector<double>                   &b,
+                   dealii::Vector<double>                         &x);
+
   /// Complex y = A x, A real.
   void
   replicated_vmult(const dealii::PETScWrappers::MPI::SparseMatrix &A,

@@ -102,6 +102,20 @@ namespace rotorfit
     EigenSolution
     solve(const StaticState &state);
 
+    /// The matrices of the last solve() and its factorisation of
+    /// Q(sigma) = K_t + sigma C + sigma^2 M (valid until the next solve).
+    struct SpeedOperators
+    {
+      const dealii::PETScWrappers::MPI::SparseMatrix &mass, &damping, &stiffness;
+      const DirectSolver                             &shifted_inverse;
+      double                                          rpm;
+    };
+    SpeedOperators
+    operators() const
+    {
+      return {matrices.mass, damping, tangent, eigensolver.linear_solver(), last_rpm};
+    }
+
     /// Log the totals, add the eigen entries to @p summary.
     void
     finish(Summary &summary) const;
@@ -163,6 +177,7 @@ namespace rotorfit
     std::vector<unsigned int> body_of_dof;
     std::vector<bool>         frozen_active;
     unsigned int speeds_done    = 0;
+    double       last_rpm       = 0;
     unsigned int retried_speeds = 0; ///< speeds solved a second time (eigen retry)
     unsigned int max_nev        = 0; ///< eigenvalues asked at the most tied state
     double       worst_backward_error = 0;

@@ -53,7 +53,7 @@ namespace rotorfit
 
     /// Open the tables: before the first speed.
     void
-    open(const Discretization &model, const bool with_modes);
+    open(const Discretization &model, const bool with_modes, const bool with_response);
 
     /// The rows and files of a static state.
     void
@@ -62,6 +62,17 @@ namespace rotorfit
     /// The rows and files of the modes of @p state's speed.
     void
     add(const StaticState &state, const ModalResult &modes);
+
+    /// The unbalance response of a speed.
+    void
+    add(const ResponseAtSpeed &response)
+    {
+      responses.add(response);
+    }
+
+    /// The response peaks (response_peaks.csv), before finish().
+    void
+    add(const std::vector<ResponsePeak> &peaks);
 
     /// Write summary.txt, then draw campbell.png (which reads it).
     void
@@ -82,6 +93,8 @@ namespace rotorfit
     CampbellTable                   campbell;
     CriticalSpeedTable              critical;
     RigidModeTable                  rigid;
+    ResponseTable                   responses;
+    bool                            with_response = false;
     std::unique_ptr<ParaViewOutput> paraview;
   };
 } // namespace rotorfit

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <rotorfit/modal/modal_analysis.h>
+#include <rotorfit/response/unbalance_response.h>
 #include <rotorfit/statics/static_state.h>
 
 #include <fstream>
@@ -78,4 +79,18 @@ namespace rotorfit
     add(const ModalResult &modes);
 
   };
+
+  /// response.csv: one row per speed and probe of the unbalance response.
+  class ResponseTable : CsvTable
+  {
+  public:
+    void
+    open(const std::string &directory);
+    void
+    add(const ResponseAtSpeed &response);
+  };
+
+  /// response_peaks.csv: the resonance peaks, written once at the end.
+  void
+  write_response_peaks(const std::string &directory, const std::vector<ResponsePeak> &peaks);
 } // namespace rotorfit

@@ -3,6 +3,7 @@
 #include <rotorfit/base/log.h>
 #include <rotorfit/eigen/prestressed_eigenproblem.h>
 #include <rotorfit/modal/modal_analysis.h>
+#include <rotorfit/response/unbalance_response.h>
 #include <rotorfit/model/discretization.h>
 #include <rotorfit/output/results.h>
 #include <rotorfit/statics/speed_schedule.h>
@@ -29,11 +30,18 @@ namespace rotorfit
    * - statics: elasticity with contact under interference and spin (statics/);
    * - eigen: the damped eigenproblem on the static state (eigen/);
    * - modal: whirl, tracking, critical speeds (modal/);
+   * - response: the steady unbalance response on the same matrices (response/);
    * - results: the output folder and its files (output/).
    *
    * Parameters: subsections "Speeds" and "Contact/On loss of fit", and
    * those of the members.
    */
+  /// The names a .prm lists; each has its own subsection.
+  struct CaseNames
+  {
+    std::vector<std::string> bodies, interfaces, bearings, unbalances, probes;
+  };
+
   class RotorProblem
   {
   public:
@@ -41,10 +49,7 @@ namespace rotorfit
 
     /// Every entry; the per-name subsections for the names given.
     static void
-    declare_parameters(dealii::ParameterHandler       &prm,
-                       const std::vector<std::string> &bodies,
-                       const std::vector<std::string> &interfaces,
-                       const std::vector<std::string> &bearings);
+    declare_parameters(dealii::ParameterHandler &prm, const CaseNames &names);
 
     /// @p prm_directory: where relative file names in the .prm start;
     /// @p output_override: the command line's --output (empty: the file's).
@@ -129,6 +134,7 @@ namespace rotorfit
     StaticProblem           statics;
     PrestressedEigenproblem eigen;
     ModalAnalysis           modal;
+    UnbalanceResponse       response;
     Results                 results;
     bool                    stop_on_loss_of_fit = false;
 

@@ -1,0 +1,149 @@
+#pragma once
+
+#include <rotorfit/base/log.h>
+#include <rotorfit/base/summary.h>
+#include <rotorfit/eigen/eigen_solution.h>
+#include <rotorfit/eigen/prestressed_eigenproblem.h>
+#include <rotorfit/model/station.h>
+#include <rotorfit/statics/static_state.h>
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <complex>
+#include <string>
+#include <vector>
+
+namespace rotorfit
+{
+  /// The steady unbalance response of one station at one speed: complex
+  /// amplitudes of its averaged lateral displacement, x(t) = Re(X e^{i Omega t}).
+  struct ProbeResponse
+  {
+    std::string          probe;
+    std::complex<double> x, y; ///< [m]
+
+    /// Forward and backward circular components of the orbit [m].
+    double
+    forward() const
+    {
+      return std::abs(x + std::complex<double>(0, 1) * y) / 2;
+    }
+    double
+    backward() const
+    {
+      return std::abs(x - std::complex<double>(0, 1) * y) / 2;
+    }
+  };
+
+  struct ResponseAtSpeed
+  {
+    double                     rpm = 0;
+    std::string                fit_state;
+    std::vector<ProbeResponse> probes;
+    double       residual   = 0; ///< ||F - Z U|| / ||F|| of the full system
+    unsigned int basis_size = 0;
+    bool         converged  = true;
+  };
+
+  /// A resonance peak of one probe's response (API 684 reading).
+  struct ResponsePeak
+  {
+    std::string probe;
+    double      rpm = 0, amplitude = 0; ///< peak speed [r/min], major semi-axis [m]
+    double      low_rpm = 0, high_rpm = 0; ///< half-power speeds (nan: beyond the sweep)
+    double      amplification_factor = 0;  ///< rpm / (high - low)
+    double      separation_margin = 0;     ///< [%] from the operating range (nan: none given)
+    double      required_margin   = 0;     ///< [%], API 617 / 684 rule
+    std::string fit_state;
+  };
+
+  /**
+   * Unbalance response (doc/theory.md 13): masses m e at stations, at
+   * every speed the steady forced response with that speed's contact state
+   * and prestress,
+   *
+   *   (K_t - Omega^2 M + i Omega (C + Omega G)) U = F Omega^2,
+   *
+   * F_x = m e e^{i phi} a, F_y = -i F_x (a: the station's weights). Solved on
+   * the speed's eigenvectors plus Q(sigma)^{-1} F (the eigensolver's
+   * factorisation), enriched by Q(sigma)^{-1} r until the full-space residual
+   * r is below a tolerance: no factorisation of its own. The response is read
+   * at probes (every bearing and unbalance station, and "Probe <name>"); the
+   * peaks get their half-power amplification factor and separation margin.
+   *
+   * Parameters: the lists "Unbalances" and "Probes", subsections
+   * "Unbalance <name>", "Probe <name>" and "Unbalance response".
+   */
+  class UnbalanceResponse
+  {
+  public:
+    UnbalanceResponse(const Discretization &model, Log &log);
+
+    static void
+    declare_lists(dealii::ParameterHandler &prm);
+
+    static void
+    declare_parameters(dealii::ParameterHandler       &prm,
+                       const std::vector<std::string> &unbalances,
+                       const std::vector<std::string> &probes);
+
+    /// @p modes_computed: the response needs the eigenproblem's matrices.
+    void
+    parse_parameters(dealii::ParameterHandler &prm, const bool modes_computed);
+
+    bool
+    enabled() const
+    {
+      return !unbalances.empty();
+    }
+
+    /// Stations of the unbalances, bearings and probes.
+    void
+    setup(const Bearings &bearings);
+
+    /// The response at the speed of @p state (after eigen.solve() there).
+    ResponseAtSpeed
+    solve(const StaticState                              &state,
+          const PrestressedEigenproblem::SpeedOperators &operators,
+          const std::vector<EigenPair>                   &modes);
+
+    /// Peaks of every probe over the sweep so far.
+    std::vector<ResponsePeak>
+    peaks() const;
+
+    /// The operating range [r/min] (empty: none given).
+    const std::vector<double> &
+    operating_range() const
+    {
+      return operating;
+    }
+
+    void
+    finish(Summary &summary) const;
+
+  private:
+    struct Unbalance
+    {
+      Station station;
+      double  mass_eccentricity = 0; ///< [kg m]
+      double  phase             = 0; ///< [rad]
+    };
+
+    /// Full-space forcing per unit Omega^2 (replicated, complex).
+    ComplexVector
+    forcing() const;
+
+    const Discretization &model;
+    Log                  &log;
+
+    std::vector<Unbalance> unbalances;
+    std::vector<std::pair<std::string, Station>> probes; ///< name, station
+    std::vector<double>    operating;
+    double                 tolerance      = 1e-8;
+    unsigned int           max_enrichment = 20;
+
+    std::vector<ResponseAtSpeed> history;
+    unsigned int                 unconverged_speeds = 0;
+    double                       worst_residual     = 0;
+  };
+} // namespace rotorfit

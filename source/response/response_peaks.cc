@@ -1,0 +1,103 @@
+#include <rotorfit/response/unbalance_response.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+// UnbalanceResponse, part 2: the resonance peaks of each probe, read as
+// API 684 asks (doc/theory.md 13.3).
+
+namespace rotorfit
+{
+  namespace
+  {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+
+    /// Where the line through (x0, y0), (x1, y1) reaches @p y.
+    double
+    crossing(const double x0, const double y0, const double x1, const double y1, const double y)
+    {
+      return x0 + (y - y0) * (x1 - x0) / (y1 - y0);
+    }
+
+    /// Separation margin [%] of a peak at @p rpm from [lo, hi] and what the
+    /// API 617 (7th ed.) / 684 rule asks for its amplification factor:
+    /// none below AF 2.5; below the range min(16, 17 (1 - 1/(AF - 1.5))),
+    /// above it min(26, 10 + 17 (1 - 1/(AF - 1.5))). Inside the range the
+    /// margin is negative: minus the distance to the nearer end.
+    void
+    margins(const double rpm, const double af, const double lo, const double hi,
+            double &margin, double &required)
+    {
+      const double below = std::isfinite(af) && af >= 2.5 ?
+                             std::min(16., 17 * (1 - 1 / (af - 1.5))) : 0.;
+      const double above = std::isfinite(af) && af >= 2.5 ?
+                             std::min(26., 10 + 17 * (1 - 1 / (af - 1.5))) : 0.;
+      if (rpm < lo)
+        margin = 100 * (lo - rpm) / lo, required = below;
+      else if (rpm > hi)
+        margin = 100 * (rpm - hi) / hi, required = above;
+      else
+        margin = -100 * std::min(rpm - lo, hi - rpm) / hi, required = std::max(below, above);
+      if (!std::isfinite(af))
+        required = nan;
+    }
+  } // namespace
+
+  std::vector<ResponsePeak>
+  UnbalanceResponse::peaks() const
+  {
+    std::vector<ResponsePeak> out;
+    if (history.empty())
+      return out;
+    for (unsigned int p = 0; p < history.front().probes.size(); ++p)
+      {
+        std::vector<double> x, a;
+        for (const auto &h : history)
+          {
+            x.push_back(h.rpm);
+            a.push_back(h.probes[p].forward() + h.probes[p].backward()); // major semi-axis
+          }
+        for (unsigned int i = 1; i + 1 < x.size(); ++i)
+          {
+            if (!(a[i] > a[i - 1] && a[i] >= a[i + 1]))
+              continue;
+            ResponsePeak peak;
+            peak.probe     = history.front().probes[p].probe;
+            peak.fit_state = history[i].fit_state;
+            // the parabola through the three points around the top
+            const double x0 = x[i - 1], x1 = x[i], x2 = x[i + 1];
+            const double d01 = (a[i] - a[i - 1]) / (x1 - x0), d12 = (a[i + 1] - a[i]) / (x2 - x1);
+            const double c2 = (d12 - d01) / (x2 - x0), c1 = d01 - c2 * (x0 + x1);
+            peak.rpm       = c2 < 0 ? std::clamp(-c1 / (2 * c2), x0, x2) : x1;
+            peak.amplitude = std::max(a[i], a[i - 1] + (peak.rpm - x0) * (d01 + c2 * (peak.rpm - x1)));
+            // half-power points: where the amplitude falls to peak / sqrt 2
+            const double level = peak.amplitude / std::sqrt(2.);
+            peak.low_rpm = peak.high_rpm = nan;
+            for (unsigned int j = i; j > 0; --j)
+              if (a[j - 1] < level)
+                {
+                  peak.low_rpm = crossing(x[j - 1], a[j - 1], x[j], a[j], level);
+                  break;
+                }
+            for (unsigned int j = i; j + 1 < x.size(); ++j)
+              if (a[j + 1] < level)
+                {
+                  peak.high_rpm = crossing(x[j], a[j], x[j + 1], a[j + 1], level);
+                  break;
+                }
+            // a wiggle that falls to half power on neither side is no
+            // resonance; one side beyond the sweep: kept with AF = nan
+            if (std::isnan(peak.low_rpm) && std::isnan(peak.high_rpm))
+              continue;
+            peak.amplification_factor = peak.rpm / (peak.high_rpm - peak.low_rpm);
+            peak.separation_margin = peak.required_margin = nan;
+            if (operating.size() == 2)
+              margins(peak.rpm, peak.amplification_factor, operating[0], operating[1],
+                      peak.separation_margin, peak.required_margin);
+            out.push_back(peak);
+          }
+      }
+    return out;
+  }
+} // namespace rotorfit

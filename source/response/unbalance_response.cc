@@ -1,0 +1,349 @@
+#include <rotorfit/base/format.h>
+#include <rotorfit/base/input_error.h>
+#include <rotorfit/base/patterns.h>
+#include <rotorfit/response/unbalance_response.h>
+#include <rotorfit/statics/speed_schedule.h>
+
+#include <deal.II/lac/lapack_full_matrix.h>
+
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+// UnbalanceResponse, part 1: parameters, stations and the forced solve of a
+// speed. Part 2 (the peaks, their amplification factors and separation
+// margins): response_peaks.cc.
+
+namespace rotorfit
+{
+  using namespace dealii;
+
+  UnbalanceResponse::UnbalanceResponse(const Discretization &model, Log &log)
+    : model(model)
+    , log(log)
+  {}
+
+  void
+  UnbalanceResponse::declare_lists(ParameterHandler &prm)
+  {
+    prm.declare_entry("Unbalances",
+                      "",
+                      Patterns::List(Patterns::Anything(), 0),
+                      "Names of the unbalance masses (empty: no unbalance "
+                      "response). Each needs a subsection 'Unbalance <name>'.");
+    prm.declare_entry("Probes",
+                      "",
+                      Patterns::List(Patterns::Anything(), 0),
+                      "Names of extra response stations (every bearing and "
+                      "unbalance station is probed anyway). Each needs a "
+                      "subsection 'Probe <name>'.");
+  }
+
+  void
+  UnbalanceResponse::declare_parameters(ParameterHandler               &prm,
+                                        const std::vector<std::string> &unbalance_names,
+                                        const std::vector<std::string> &probe_names)
+  {
+    for (const auto &name : unbalance_names)
+      {
+        prm.enter_subsection("Unbalance " + name);
+        Station::declare_parameters(prm, "the unbalance");
+        prm.declare_entry("Mass eccentricity",
+                          "",
+                          patterns::Mandatory(patterns::Positive()),
+                          "Unbalance m e [kg m] (mass times its distance from the "
+                          "axis; 1 g mm = 1e-6 kg m). Mandatory.");
+        prm.declare_entry("Phase",
+                          "0",
+                          Patterns::Double(),
+                          "Angular position of the unbalance at t = 0 from the x "
+                          "axis towards y [deg].");
+        prm.leave_subsection();
+      }
+    for (const auto &name : probe_names)
+      {
+        prm.enter_subsection("Probe " + name);
+        Station::declare_parameters(prm, "the probe");
+        prm.leave_subsection();
+      }
+    prm.enter_subsection("Unbalance response");
+    prm.declare_entry("Operating speed range",
+                      "",
+                      Patterns::List(Patterns::Double(0), 0, 2),
+                      "Minimum and maximum continuous operating speed [r/min] "
+                      "(empty: no separation margins).");
+    prm.declare_entry("Residual tolerance",
+                      "1e-8",
+                      patterns::Positive(),
+                      "The projected solve is enriched until the full-space "
+                      "residual ||F - Z U|| / ||F|| is below this [-].");
+    prm.declare_entry("Maximum enrichments",
+                      "20",
+                      Patterns::Integer(0),
+                      "Cap on the enrichment steps per speed (two vectors each); "
+                      "a speed that does not meet the tolerance is flagged.");
+    prm.leave_subsection();
+  }
+
+  void
+  UnbalanceResponse::parse_parameters(ParameterHandler &prm, const bool modes_computed)
+  {
+    unbalances.clear();
+    probes.clear();
+    for (const auto &name : Utilities::split_string_list(prm.get("Unbalances"), ','))
+      {
+        prm.enter_subsection("Unbalance " + name);
+        Unbalance u;
+        u.station.parse_parameters(prm, "Unbalance " + name);
+        u.mass_eccentricity = prm.get_double("Mass eccentricity");
+        u.phase             = prm.get_double("Phase") * M_PI / 180;
+        prm.leave_subsection();
+        unbalances.push_back(u);
+      }
+    for (const auto &name : Utilities::split_string_list(prm.get("Probes"), ','))
+      {
+        prm.enter_subsection("Probe " + name);
+        Station s;
+        s.parse_parameters(prm, "Probe " + name);
+        prm.leave_subsection();
+        probes.emplace_back(name, s);
+      }
+    prm.enter_subsection("Unbalance response");
+    operating.clear();
+    for (const auto &v : Utilities::split_string_list(prm.get("Operating speed range"), ','))
+      operating.push_back(Utilities::string_to_double(v));
+    if (operating.size() == 1 || (operating.size() == 2 && !(operating[1] >= operating[0])))
+      throw InputError("Unbalance response/Operating speed range = " +
+                       prm.get("Operating speed range") +
+                       ": give the minimum and the maximum continuous speed [r/min], "
+                       "minimum first.");
+    tolerance      = prm.get_double("Residual tolerance");
+    max_enrichment = prm.get_integer("Maximum enrichments");
+    prm.leave_subsection();
+    if (enabled() && !modes_computed)
+      throw InputError("Unbalances are given but Eigenproblem/Compute modes = false; the "
+                       "unbalance response needs the eigenproblem's matrices (set it to true).");
+    if (!enabled() && !probes.empty())
+      log << "Warning: Probes are given but no Unbalances: there is no response to probe.\n";
+  }
+
+  void
+  UnbalanceResponse::setup(const Bearings &bearings)
+  {
+    if (!enabled())
+      return;
+    std::vector<std::pair<std::string, Station>> extra;
+    extra.swap(probes);
+    for (const auto &b : bearings.list())
+      probes.emplace_back(b.name, b.station);
+    for (auto &u : unbalances)
+      {
+        u.station.setup(model, log);
+        probes.emplace_back(u.station.owner.substr(std::string("Unbalance ").size()), u.station);
+      }
+    for (auto &[name, s] : extra)
+      {
+        s.setup(model, log);
+        probes.emplace_back(name, s);
+      }
+    for (unsigned int i = 0; i < probes.size(); ++i)
+      for (unsigned int j = 0; j < i; ++j)
+        if (probes[i].first == probes[j].first)
+          throw InputError("the response probe name '" + probes[i].first +
+                           "' is used twice (bearings, unbalances and Probes share one "
+                           "list of names in response.csv); rename one.");
+    std::ostringstream m;
+    m << "Unbalance response: " << unbalances.size() << " unbalance(s)";
+    for (const auto &u : unbalances)
+      m << "; " << u.station.owner << " m e " << u.mass_eccentricity << " kg m at "
+        << u.phase * 180 / M_PI << " deg on the " << u.station.describe() << " (z "
+        << u.station.z << " m)";
+    m << "; probes:";
+    for (const auto &[name, s] : probes)
+      m << ' ' << name;
+    log << m.str() << '\n';
+  }
+
+  ComplexVector
+  UnbalanceResponse::forcing() const
+  {
+    const std::size_t n = model.dofs().n_dofs();
+    ComplexVector     f{Vector<double>(n), Vector<double>(n)};
+    // F_x = m e e^{i phi}, F_y = -i F_x: the force m e Omega^2
+    // (cos(Omega t + phi), sin(Omega t + phi)) turning with the rotor
+    for (const auto &u : unbalances)
+      {
+        const std::complex<double> fx = u.mass_eccentricity * std::polar(1., u.phase),
+                                   fy = std::complex<double>(0, -1) * fx;
+        const Station &s = u.station;
+        for (unsigned int i = 0; i < s.weight.size(); ++i)
+          {
+            f.re[s.dof_x[i]] += s.weight[i] * fx.real();
+            f.im[s.dof_x[i]] += s.weight[i] * fx.imag();
+            f.re[s.dof_y[i]] += s.weight[i] * fy.real();
+            f.im[s.dof_y[i]] += s.weight[i] * fy.imag();
+          }
+      }
+    return f;
+  }
+
+  namespace
+  {
+    /// An orthonormal basis V with the products M V, D V, K V of its columns.
+    struct ProjectionBasis
+    {
+      const PrestressedEigenproblem::SpeedOperators &op;
+      std::vector<Vector<double>> v, mv, dv, kv;
+
+      /// Orthogonalise @p x against the basis (twice) and append it unless it
+      /// lies in the span; true if appended.
+      bool
+      add(Vector<double> x)
+      {
+        const double norm0 = x.l2_norm();
+        if (!(norm0 > 0) || !std::isfinite(norm0))
+          return false;
+        for (unsigned int pass = 0; pass < 2; ++pass)
+          for (const auto &q : v)
+            x.add(-(q * x), q);
+        const double norm = x.l2_norm();
+        if (!(norm > 1e-10 * norm0))
+          return false;
+        x /= norm;
+        v.push_back(x);
+        mv.emplace_back();
+        dv.emplace_back();
+        kv.emplace_back();
+        replicated_vmult(op.mass, x, mv.back());
+        replicated_vmult(op.damping, x, dv.back());
+        replicated_vmult(op.stiffness, x, kv.back());
+        return true;
+      }
+    };
+  } // namespace
+
+  ResponseAtSpeed
+  UnbalanceResponse::solve(const StaticState                              &state,
+                           const PrestressedEigenproblem::SpeedOperators &op,
+                           const std::vector<EigenPair>                   &modes)
+  {
+    AssertThrow(op.rpm == state.rpm, ExcInternalError());
+    ResponseAtSpeed out;
+    out.rpm       = state.rpm;
+    out.fit_state = state.fit_state;
+    const double  w = SpeedSchedule::rpm_to_rad_per_s(state.rpm);
+    ComplexVector f = forcing();
+    f.re *= w * w;
+    f.im *= w * w;
+    const double f_norm = std::sqrt(f.re.norm_sqr() + f.im.norm_sqr());
+    const std::size_t n = f.re.size();
+    ComplexVector u{Vector<double>(n), Vector<double>(n)};
+    if (f_norm > 0)
+      {
+        ProjectionBasis basis{op, {}, {}, {}, {}};
+        for (const auto &p : modes)
+          {
+            basis.add(p.phi.re);
+            basis.add(p.phi.im);
+          }
+        Vector<double> x;
+        for (const auto *g : {&f.re, &f.im})
+          {
+            replicated_solve(op.shifted_inverse, op.mass, *g, x);
+            basis.add(x);
+          }
+        for (unsigned int step = 0;; ++step)
+          {
+            // reduced (A + i B) y = V^T f with A = V^T (K - w^2 M) V, B = w V^T D V
+            // as the real block system [A -B; B A] [y_re; y_im] = [g_re; g_im]
+            const unsigned int k = basis.v.size();
+            LAPACKFullMatrix<double> S(2 * k, 2 * k);
+            Vector<double>           y(2 * k);
+            for (unsigned int i = 0; i < k; ++i)
+              {
+                for (unsigned int j = 0; j < k; ++j)
+                  {
+                    const double a = basis.v[i] * basis.kv[j] - w * w * (basis.v[i] * basis.mv[j]);
+                    const double b = w * (basis.v[i] * basis.dv[j]);
+                    S(i, j) = S(k + i, k + j) = a;
+                    S(i, k + j)               = -b;
+                    S(k + i, j)               = b;
+                  }
+                y[i]     = basis.v[i] * f.re;
+                y[k + i] = basis.v[i] * f.im;
+              }
+            S.compute_lu_factorization();
+            S.solve(y);
+            // U = V y and the full-space residual r = f - (K - w^2 M + i w D) U
+            ComplexVector r = f;
+            u.re            = 0;
+            u.im            = 0;
+            for (unsigned int j = 0; j < k; ++j)
+              {
+                const double yr = y[j], yi = y[k + j];
+                u.re.add(yr, basis.v[j]);
+                u.im.add(yi, basis.v[j]);
+                r.re.add(-yr, basis.kv[j], w * w * yr, basis.mv[j]);
+                r.re.add(w * yi, basis.dv[j]);
+                r.im.add(-yi, basis.kv[j], w * w * yi, basis.mv[j]);
+                r.im.add(-w * yr, basis.dv[j]);
+              }
+            out.residual   = std::sqrt(r.re.norm_sqr() + r.im.norm_sqr()) / f_norm;
+            out.basis_size = k;
+            if (out.residual <= tolerance)
+              break;
+            bool grown = false;
+            if (step < max_enrichment)
+              for (const auto *g : {&r.re, &r.im})
+                {
+                  replicated_solve(op.shifted_inverse, op.mass, *g, x);
+                  grown |= basis.add(x);
+                }
+            if (!grown)
+              {
+                out.converged = false;
+                break;
+              }
+          }
+      }
+    if (!std::isfinite(out.residual))
+      out.converged = false;
+    for (const auto &[name, s] : probes)
+      {
+        ProbeResponse p;
+        p.probe = name;
+        for (unsigned int i = 0; i < s.weight.size(); ++i)
+          {
+            p.x += s.weight[i] * std::complex<double>(u.re[s.dof_x[i]], u.im[s.dof_x[i]]);
+            p.y += s.weight[i] * std::complex<double>(u.re[s.dof_y[i]], u.im[s.dof_y[i]]);
+          }
+        out.probes.push_back(p);
+      }
+    if (!out.converged)
+      {
+        ++unconverged_speeds;
+        log << "Warning: unbalance response at " << state.rpm << " r/min: the residual "
+            << std::setprecision(3) << out.residual << " is above Unbalance response/Residual "
+            << "tolerance = " << tolerance << " after " << out.basis_size
+            << " basis vectors; the row is flagged (converged = 0). Raise Maximum "
+               "enrichments or Eigenproblem/Number of modes.\n";
+      }
+    if (!(out.residual <= worst_residual))
+      worst_residual = out.residual;
+    history.push_back(out);
+    return out;
+  }
+
+  void
+  UnbalanceResponse::finish(Summary &summary) const
+  {
+    if (!enabled())
+      return;
+    summary.add("response.speeds", history.size());
+    summary.add("response.unconverged_speeds", unconverged_speeds);
+    summary.add("response.worst_residual", worst_residual, 3);
+    if (operating.size() == 2)
+      summary.add("response.operating_range_rpm",
+                  format_number(operating[0]) + " " + format_number(operating[1]));
+  }
+} // namespace rotorfit
