@@ -23,6 +23,11 @@ writes it).
       every speed; with one unbalance in the middle (a Jeffcott rotor) the
       peak speed within TOL and the half-power amplification factor within
       AF_TOL of 1/(2 zeta), and the separation margin from the operating range.
+  check_modes.py stability_onset EXE PRM OUT TOL
+      rigid rotor on bearings whose cross-coupled stiffness kxy = -kyx grows
+      linearly with speed (coefficient table): the forward translation line
+      becomes unstable where q = c sqrt(2k/m) (doc/theory.md 9.5); the onset
+      speed and its frequency within TOL, direction and convergence flagged.
   check_modes.py bearing_table EXE PRM OUT TOL
       rigid rotor on tabulated bearings: translation frequency and damping
       follow the interpolated k(Omega), c(Omega) within TOL.
@@ -386,6 +391,36 @@ def check_unbalance(exe, prm, out, tol, af_tol):
     return 0 if ok else 1
 
 
+def check_stability_onset(exe, prm, out, tol):
+    tol = float(tol)
+    run_test.run(exe, prepare(prm, out))
+    text = open(prm).read()
+    m, _, _ = cylinder(text)
+    table = re.search(r"set Coefficient table\s*=\s*(\S+)", text).group(1)
+    data = [r for r in csv.reader(l for l in open(os.path.join(os.path.dirname(prm), table))
+                                  if l.strip() and not l.startswith("#"))][1:]
+    (n0, k, _, q0, _, c, *_), (n1, _, _, q1, *_) = ([float(x) for x in r] for r in data[:2])
+    slope = (q1 - q0) / (n1 - n0)            # N/m per r/min, q0 = 0
+    onset = c * math.sqrt(2 * k / m) / slope
+    found = rows(out, "stability_onsets.csv")
+    ok = len(found) >= 1
+    print(f"onsets found: {len(found)}", "ok" if ok else "FAILED")
+    if ok:
+        o = min(found, key=lambda r: float(r["onset_rpm"]))
+        ok &= report("stability onset [r/min]", float(o["onset_rpm"]), onset, tol)
+        ok &= report("frequency at the onset [Hz]", float(o["frequency_hz"]),
+                     math.sqrt(2 * k / m) / (2 * math.pi), tol)
+        good = o["direction"] == "unstable above" and o["whirl"] == "forward" and o["converged"] == "1"
+        print(f"direction {o['direction']}, whirl {o['whirl']}, converged {o['converged']}",
+              "ok" if good else "FAILED")
+        ok &= good
+        summary = open(os.path.join(out, "summary.txt")).read()
+        good = re.search(r"^modal.first_stability_onset_rpm ([-+0-9.eE]+)$", summary, re.M)
+        print("summary.txt names the onset:", "ok" if good else "FAILED")
+        ok &= bool(good)
+    return 0 if ok else 1
+
+
 def check_bearing_table(exe, prm, out, tol):
     """Translation mode of the rigid rotor on tabulated bearings: frequency
     sqrt(2 k/m) and damping ratio c/sqrt(2 k m) with k, c interpolated."""
@@ -597,7 +632,7 @@ if __name__ == "__main__":
               "free_spin": check_free_spin, "pair_shift": check_pair_shift,
               "loss_of_fit": check_loss_of_fit, "fixed": check_fixed,
               "stiffening": check_stiffening, "bearing_table": check_bearing_table,
-              "unbalance": check_unbalance, "mpi": check_mpi, "failure": check_failure}
+              "unbalance": check_unbalance, "stability_onset": check_stability_onset, "mpi": check_mpi, "failure": check_failure}
     if mode not in checks:
         sys.exit(f"unknown mode {mode}")
     status = checks[mode](*args)

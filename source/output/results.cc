@@ -1,3 +1,4 @@
+#include <rotorfit/base/format.h>
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/base/run_control.h>
 #include <rotorfit/output/results.h>
@@ -35,6 +36,18 @@ namespace rotorfit
                       "One .pvtu per speed (displacement, von Mises stress, "
                       "body, contact status, pressure and gap) and a .pvd "
                       "index.");
+    prm.declare_entry("Pictures",
+                      "true",
+                      Patterns::Bool(),
+                      "Draw the pictures at the end of the run (python3 + "
+                      "matplotlib): contact.png, and with modes campbell.png, "
+                      "with unbalances response_bode.png and response_polar.png.");
+    prm.declare_entry("Campbell frequency range",
+                      "0",
+                      Patterns::Double(0),
+                      "Top of campbell.png's frequency axis [Hz] (0: 1.15 x the "
+                      "highest excitation line at the top speed, at least 1.1 x "
+                      "the lowest mode).");
     prm.leave_subsection();
     prm.enter_subsection("Eigenproblem");
     prm.declare_entry("Write mode shapes",
@@ -45,8 +58,8 @@ namespace rotorfit
     prm.declare_entry("Campbell plot",
                       "true",
                       Patterns::Bool(),
-                      "Draw campbell.png at the end of the run (python3 + "
-                      "matplotlib).");
+                      "Draw campbell.png at the end of the run (with "
+                      "Output/Pictures).");
     prm.leave_subsection();
   }
 
@@ -59,6 +72,8 @@ namespace rotorfit
       prm.set("Directory", directory_override);
     output_dir     = prm.get("Directory");
     write_paraview = prm.get_bool("Write ParaView files");
+    pictures       = prm.get_bool("Pictures");
+    campbell_fmax  = prm.get_double("Campbell frequency range");
     prm.leave_subsection();
     prm.enter_subsection("Eigenproblem");
     write_shapes = prm.get_bool("Write mode shapes");
@@ -121,6 +136,7 @@ namespace rotorfit
   Results::open(const Discretization &model, const bool with_modes, const bool response)
   {
     with_response = response;
+    with_contact  = !model.interfaces().list().empty();
     if (write_paraview || (with_modes && write_shapes))
       paraview = std::make_unique<ParaViewOutput>(model, output_dir);
     if (!root)
@@ -132,6 +148,7 @@ namespace rotorfit
         campbell.open(output_dir);
         critical.open(output_dir);
         rigid.open(output_dir);
+        stability.open(output_dir);
       }
     if (with_response)
       responses.open(output_dir);
@@ -177,14 +194,32 @@ namespace rotorfit
           out << key << ' ' << line << '\n';
         }
     }
-    if (!(with_modes && plot))
+    if (!pictures)
       return;
-    const std::string command = std::string(ROTORFIT_PYTHON) + " " + ROTORFIT_PLOT_SCRIPT +
-                                " '" + output_dir + "' > '" + output_dir + "/plot.log' 2>&1";
-    if (std::system(command.c_str()) == 0)
-      log << "Campbell diagram: " << output_dir << "/campbell.png\n";
-    else
-      log << "Warning: campbell.png could not be drawn (see " << output_dir
-          << "/plot.log; needs python3-matplotlib); campbell.csv is complete.\n";
+    // the pictures read the files just closed; python3-matplotlib may be
+    // missing: the tables stay complete, the log says which picture failed
+    std::vector<std::pair<std::string, std::string>> scripts;
+    if (with_contact)
+      scripts.emplace_back("plot_contact.py", "contact.png");
+    if (with_modes && plot)
+      scripts.emplace_back("plot_campbell.py" +
+                              (campbell_fmax > 0 ? " --fmax " + format_number(campbell_fmax) : ""),
+                            "campbell.png");
+    if (with_modes && with_response)
+      scripts.emplace_back("plot_response.py", "response_bode.png, response_polar.png");
+    for (const auto &[script, files] : scripts)
+      {
+        const std::string command = std::string(ROTORFIT_PYTHON) + " " + ROTORFIT_SCRIPT_DIR +
+                                    "/" + script.substr(0, script.find(' ')) + " '" + output_dir +
+                                    "'" + (script.find(' ') == std::string::npos ?
+                                             "" :
+                                             script.substr(script.find(' '))) +
+                                    " >> '" + output_dir + "/plot.log' 2>&1";
+        if (std::system(command.c_str()) == 0)
+          log << "Picture: " << output_dir << "/" << files << '\n';
+        else
+          log << "Warning: " << files << " could not be drawn (see " << output_dir
+              << "/plot.log; needs python3-matplotlib); the csv files are complete.\n";
+      }
   }
 } // namespace rotorfit

@@ -180,3 +180,24 @@ namespace rotorfit
           << ',' << p.fit_state << '\n';
   }
 } // namespace rotorfit
+
+namespace rotorfit
+{
+  void
+  StabilityOnsetTable::open(const std::string &directory)
+  {
+    create(directory + "/stability_onsets.csv",
+           "tracked_id,whirl,onset_rpm,frequency_hz,direction,evaluations,converged", 10);
+  }
+
+  void
+  StabilityOnsetTable::add(const std::vector<StabilityOnset> &onsets)
+  {
+    if (!file.is_open())
+      return;
+    for (const auto &o : onsets)
+      file << o.tracked_id << ',' << o.whirl << ',' << o.rpm << ',' << o.frequency_hz << ','
+           << o.direction << ',' << o.evaluations << ',' << (o.converged ? 1 : 0) << '\n';
+    file << std::flush;
+  }
+} // namespace rotorfit

@@ -46,9 +46,16 @@ namespace rotorfit
                 TimerOutput::Scope t(timer, "unbalance response");
                 results.add(response.solve(state, eigen.operators(), solution.elastic));
               }
-            TimerOutput::Scope t(timer, "modal analysis + output");
-            results.add(state, modal.analyse(std::move(solution)));
+            {
+              TimerOutput::Scope t(timer, "modal analysis + output");
+              results.add(state, modal.analyse(std::move(solution)));
+            }
             ++modal_steps;
+            {
+              // a damping ratio that changed sign: root solve in the speed
+              TimerOutput::Scope t(timer, "stability onsets");
+              results.add(onsets.find(modal.last_result(), state, eigen));
+            }
           }
 
         finished_steps = k + 1;
@@ -125,7 +132,10 @@ namespace rotorfit
         statics.finish(summary);
         eigen.finish(summary);
         if (modal_steps > 0)
-          modal.finish(summary);
+          {
+            modal.finish(summary);
+            onsets.finish(summary);
+          }
         response.finish(summary);
         results.add(response.peaks());
       }

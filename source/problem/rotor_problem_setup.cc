@@ -24,6 +24,7 @@ namespace rotorfit
     , statics(model, log, timer)
     , eigen(model, log, timer)
     , modal(log)
+    , onsets(log)
     , response(model, log)
     , results(comm, log)
   {}

@@ -55,6 +55,13 @@ namespace rotorfit
     const ModalResult &
     analyse(EigenSolution &&solution);
 
+    /// The result of the last analyse().
+    const ModalResult &
+    last_result() const
+    {
+      return result;
+    }
+
     /// Log and add the number of critical speeds to @p summary.
     void
     finish(Summary &summary) const;

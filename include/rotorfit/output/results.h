@@ -63,6 +63,13 @@ namespace rotorfit
     void
     add(const StaticState &state, const ModalResult &modes);
 
+    /// Stability onsets found since the previous speed.
+    void
+    add(const std::vector<StabilityOnset> &found)
+    {
+      stability.add(found);
+    }
+
     /// The unbalance response of a speed.
     void
     add(const ResponseAtSpeed &response)
@@ -87,6 +94,8 @@ namespace rotorfit
     bool        write_paraview = true;
     bool        write_shapes   = true;
     bool        plot           = true;
+    bool        pictures       = true;
+    double      campbell_fmax  = 0;
 
     ContactTable                    contact;
     PairOpeningTable                openings;
@@ -94,7 +103,9 @@ namespace rotorfit
     CriticalSpeedTable              critical;
     RigidModeTable                  rigid;
     ResponseTable                   responses;
+    StabilityOnsetTable             stability;
     bool                            with_response = false;
+    bool                            with_contact  = false;
     std::unique_ptr<ParaViewOutput> paraview;
   };
 } // namespace rotorfit

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <rotorfit/modal/modal_analysis.h>
+#include <rotorfit/modal/stability_onset.h>
 #include <rotorfit/response/unbalance_response.h>
 #include <rotorfit/statics/static_state.h>
 
@@ -78,6 +79,16 @@ namespace rotorfit
     void
     add(const ModalResult &modes);
 
+  };
+
+  /// stability_onsets.csv: speeds where a line's damping ratio crosses zero.
+  class StabilityOnsetTable : CsvTable
+  {
+  public:
+    void
+    open(const std::string &directory);
+    void
+    add(const std::vector<StabilityOnset> &onsets);
   };
 
   /// response.csv: one row per speed and probe of the unbalance response.

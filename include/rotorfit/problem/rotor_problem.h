@@ -3,6 +3,7 @@
 #include <rotorfit/base/log.h>
 #include <rotorfit/eigen/prestressed_eigenproblem.h>
 #include <rotorfit/modal/modal_analysis.h>
+#include <rotorfit/modal/stability_onset.h>
 #include <rotorfit/response/unbalance_response.h>
 #include <rotorfit/model/discretization.h>
 #include <rotorfit/output/results.h>
@@ -134,6 +135,7 @@ namespace rotorfit
     StaticProblem           statics;
     PrestressedEigenproblem eigen;
     ModalAnalysis           modal;
+    StabilityOnsets         onsets;
     UnbalanceResponse       response;
     Results                 results;
     bool                    stop_on_loss_of_fit = false;
