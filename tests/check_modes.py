@@ -28,6 +28,10 @@ writes it).
       linearly with speed (coefficient table): the forward translation line
       becomes unstable where q = c sqrt(2k/m) (doc/theory.md 9.5); the onset
       speed and its frequency within TOL, direction and convergence flagged.
+  check_modes.py torsion_crossing EXE PRM OUT TOL
+      free-free soft cylinder: the first torsion line at rest within TOL of
+      sqrt(G/rho)/(2L), its 1X crossing near 60 f listed as non-lateral and
+      not excited by unbalance, every other crossing lateral.
   check_modes.py bearing_table EXE PRM OUT TOL
       rigid rotor on tabulated bearings: translation frequency and damping
       follow the interpolated k(Omega), c(Omega) within TOL.
@@ -421,6 +425,35 @@ def check_stability_onset(exe, prm, out, tol):
     return 0 if ok else 1
 
 
+def check_torsion_crossing(exe, prm, out, tol):
+    tol = float(tol)
+    run_test.run(exe, prepare(prm, out))
+    text = open(prm).read()
+    E, nu, rho = value(text, "Young's modulus"), value(text, "Poisson's ratio"), value(text, "Density")
+    L = geometry(text, "L")
+    f_t = math.sqrt(E / (2 * (1 + nu)) / rho) / (2 * L)
+    rest = [r for r in at(rows(out), 0.0) if r["whirl"] == "non-lateral"]
+    ok = bool(rest)
+    if ok:
+        got = min((float(r["frequency_hz"]) for r in rest), key=lambda f: abs(f - f_t))
+        ok &= report("torsion at rest [Hz]", got, f_t, tol)
+    else:
+        print("no non-lateral line at rest FAILED")
+    crit = rows(out, "critical_speeds.csv")
+    torsion = [x for x in crit if abs(float(x["speed_rpm"]) - 60 * f_t) < 0.05 * 60 * f_t]
+    good = len(torsion) == 1 and torsion[0]["kind"] == "non-lateral" and \
+        torsion[0]["unbalance_excited"] == "0"
+    print(f"1X crossing near {60 * f_t:.6g} r/min: {[(x['speed_rpm'], x['kind'], x['unbalance_excited']) for x in torsion]}"
+          " (expected one, non-lateral, not excited)", "ok" if good else "FAILED")
+    ok &= good
+    lateral = [x for x in crit if x not in torsion]
+    good = len(lateral) >= 2 and all(x["kind"] == "lateral" for x in lateral)
+    print(f"other crossings: {[(x['speed_rpm'], x['whirl'], x['kind']) for x in lateral]} "
+          "(expected lateral)", "ok" if good else "FAILED")
+    ok &= good
+    return 0 if ok else 1
+
+
 def check_bearing_table(exe, prm, out, tol):
     """Translation mode of the rigid rotor on tabulated bearings: frequency
     sqrt(2 k/m) and damping ratio c/sqrt(2 k m) with k, c interpolated."""
@@ -632,7 +665,8 @@ if __name__ == "__main__":
               "free_spin": check_free_spin, "pair_shift": check_pair_shift,
               "loss_of_fit": check_loss_of_fit, "fixed": check_fixed,
               "stiffening": check_stiffening, "bearing_table": check_bearing_table,
-              "unbalance": check_unbalance, "stability_onset": check_stability_onset, "mpi": check_mpi, "failure": check_failure}
+              "unbalance": check_unbalance, "stability_onset": check_stability_onset,
+              "torsion_crossing": check_torsion_crossing, "mpi": check_mpi, "failure": check_failure}
     if mode not in checks:
         sys.exit(f"unknown mode {mode}")
     status = checks[mode](*args)

@@ -11,6 +11,9 @@ namespace rotorfit
 {
   namespace
   {
+    /// Damping ratios below this are neutral (no sign to change).
+    constexpr double neutral = 1e-8;
+
     double
     damping_ratio(const std::complex<double> lambda)
     {
@@ -31,8 +34,10 @@ namespace rotorfit
           const auto it = previous.find(m.tracked_id);
           if (it == previous.end())
             continue;
+          // an undamped line has |zeta| of round-off (1e-15 .. 1e-12) and
+          // either sign: a sign change counts only beyond the noise
           const double z0 = it->second.zeta, z1 = damping_ratio(m.lambda);
-          if ((z0 > 0 && z1 <= 0) || (z0 < 0 && z1 >= 0))
+          if (std::abs(z0) > neutral && std::abs(z1) > neutral && (z0 > 0) != (z1 > 0))
             changed.push_back(&m);
         }
     for (const WhirlMode *line : changed)

@@ -25,7 +25,8 @@ namespace rotorfit
 
   /**
    * Stability onsets (doc/theory.md 9.5): when a tracked line's damping
-   * ratio changes sign between two speeds, the speed where it is zero is
+   * ratio changes sign between two speeds (both beyond 1e-8 in magnitude:
+   * an undamped line's round-off has either sign), the speed where it is zero is
    * found by a root solve (Illinois regula falsi) on the damped
    * eigenproblem itself, evaluated at states of the later speed's active
    * set (its affine law in Omega^2: exact unless a pair opens inside the
