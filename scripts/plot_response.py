@@ -114,8 +114,13 @@ def read_response(path):
         probes.setdefault(r.get("probe", "") or "probe", []).append(
             (rpm, fit_state(r.get("fit_state")), a_x, p_x, a_y, p_y, major,
              r.get("converged", "1").lower() not in ("0", "no", "false")))
-    for rows in probes.values():
+    for name, rows in probes.items():
         rows.sort(key=lambda t: t[0])
+        # a probe that no longer moves (a loose body took the unbalance
+        # away) has round-off amplitudes: their phases mean nothing
+        top = max((t[6] for t in rows if t[6] is not None and t[6] == t[6]), default=0.0)
+        probes[name] = [t if t[6] is None or not t[6] < 1e-6 * top else
+                        (t[0], t[1], t[2], None, t[4], None, t[6], t[7]) for t in rows]
     return probes
 
 
@@ -167,7 +172,8 @@ def peak_label(row):
     bad = row.get("margin_ok", "").lower() in ("0", "no", "false") or (sm is not None and req is not None and sm < req)
     parts = []
     if af is not None:
-        parts.append(f"AF {af:.1f}")
+        # resolved = 0: the half-power band is narrower than the speed step
+        parts.append(f"AF >= {af:.1f} (unresolved)" if row.get("resolved") == "0" else f"AF {af:.1f}")
     if sm is not None and req is not None:
         parts.append(f"SM {sm:.0f} % < req. {req:.0f} %" if sm < req else
                      f"SM {sm:.0f} % (req. {req:.0f} %" + (", not met)" if bad else ")"))

@@ -26,7 +26,7 @@ writes it).
   check_modes.py stability_onset EXE PRM OUT TOL
       rigid rotor on bearings whose cross-coupled stiffness kxy = -kyx grows
       linearly with speed (coefficient table): the forward translation line
-      becomes unstable where q = c sqrt(2k/m) (doc/theory.md 9.5); the onset
+      becomes unstable where q = c sqrt(2k/m) (doc/theory.md 9.7); the onset
       speed and its frequency within TOL, direction and convergence flagged.
   check_modes.py torsion_crossing EXE PRM OUT TOL
       free-free soft cylinder: the first torsion line at rest within TOL of

@@ -169,7 +169,7 @@ namespace rotorfit
     std::ofstream out(directory + "/response_peaks.csv");
     out << "probe,speed_rpm,major_m,amplification_factor,half_power_low_rpm,"
            "half_power_high_rpm,separation_margin_percent,required_margin_percent,margin_ok,"
-           "fit_state\n"
+           "fit_state,resolved\n"
         << std::setprecision(8);
     for (const auto &p : peaks)
       out << p.probe << ',' << p.rpm << ',' << p.amplitude << ',' << p.amplification_factor
@@ -177,7 +177,7 @@ namespace rotorfit
           << p.required_margin << ','
           << (std::isnan(p.required_margin) ? "n/a" :
               p.separation_margin >= p.required_margin ? "yes" : "no")
-          << ',' << p.fit_state << '\n';
+          << ',' << p.fit_state << ',' << (p.resolved ? 1 : 0) << '\n';
   }
 } // namespace rotorfit
 

@@ -26,13 +26,16 @@ namespace rotorfit
     /// above it min(26, 10 + 17 (1 - 1/(AF - 1.5))). Inside the range the
     /// margin is negative: minus the distance to the nearer end.
     void
-    margins(const double rpm, const double af, const double lo, const double hi,
-            double &margin, double &required)
+    margins(const double rpm, const double af, const bool resolved, const double lo,
+            const double hi, double &margin, double &required)
     {
-      const double below = std::isfinite(af) && af >= 2.5 ?
-                             std::min(16., 17 * (1 - 1 / (af - 1.5))) : 0.;
-      const double above = std::isfinite(af) && af >= 2.5 ?
-                             std::min(26., 10 + 17 * (1 - 1 / (af - 1.5))) : 0.;
+      // an unresolved peak's AF is a lower bound: ask for the cap
+      const double below = !resolved ? 16. :
+                           std::isfinite(af) && af >= 2.5 ?
+                                       std::min(16., 17 * (1 - 1 / (af - 1.5))) : 0.;
+      const double above = !resolved ? 26. :
+                           std::isfinite(af) && af >= 2.5 ?
+                                       std::min(26., 10 + 17 * (1 - 1 / (af - 1.5))) : 0.;
       if (rpm < lo)
         margin = 100 * (lo - rpm) / lo, required = below;
       else if (rpm > hi)
@@ -58,9 +61,12 @@ namespace rotorfit
             x.push_back(h.rpm);
             a.push_back(h.probes[p].forward() + h.probes[p].backward()); // major semi-axis
           }
+        // a probe that no longer moves (a loose body carries the unbalance
+        // away from it) shows round-off wiggles: not peaks
+        const double floor = 1e-6 * *std::max_element(a.begin(), a.end());
         for (unsigned int i = 1; i + 1 < x.size(); ++i)
           {
-            if (!(a[i] > a[i - 1] && a[i] >= a[i + 1]))
+            if (!(a[i] > a[i - 1] && a[i] >= a[i + 1]) || !(a[i] > floor))
               continue;
             ResponsePeak peak;
             peak.probe     = history.front().probes[p].probe;
@@ -73,6 +79,12 @@ namespace rotorfit
             peak.amplitude = std::max(a[i], a[i - 1] + (peak.rpm - x0) * (d01 + c2 * (peak.rpm - x1)));
             // half-power points: where the amplitude falls to peak / sqrt 2
             const double level = peak.amplitude / std::sqrt(2.);
+            unsigned int above = 1;
+            for (unsigned int j = i; j > 0 && a[j - 1] >= level; --j)
+              ++above;
+            for (unsigned int j = i; j + 1 < x.size() && a[j + 1] >= level; ++j)
+              ++above;
+            peak.resolved = above >= 3;
             peak.low_rpm = peak.high_rpm = nan;
             for (unsigned int j = i; j > 0; --j)
               if (a[j - 1] < level)
@@ -93,8 +105,8 @@ namespace rotorfit
             peak.amplification_factor = peak.rpm / (peak.high_rpm - peak.low_rpm);
             peak.separation_margin = peak.required_margin = nan;
             if (operating.size() == 2)
-              margins(peak.rpm, peak.amplification_factor, operating[0], operating[1],
-                      peak.separation_margin, peak.required_margin);
+              margins(peak.rpm, peak.amplification_factor, peak.resolved, operating[0],
+                      operating[1], peak.separation_margin, peak.required_margin);
             out.push_back(peak);
           }
       }

@@ -24,7 +24,7 @@ namespace rotorfit
   };
 
   /**
-   * Stability onsets (doc/theory.md 9.5): when a tracked line's damping
+   * Stability onsets (doc/theory.md 9.7): when a tracked line's damping
    * ratio changes sign between two speeds (both beyond 1e-8 in magnitude:
    * an undamped line's round-off has either sign), the speed where it is zero is
    * found by a root solve (Illinois regula falsi) on the damped

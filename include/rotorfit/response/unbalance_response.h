@@ -54,6 +54,10 @@ namespace rotorfit
     double      amplification_factor = 0;  ///< rpm / (high - low)
     double      separation_margin = 0;     ///< [%] from the operating range (nan: none given)
     double      required_margin   = 0;     ///< [%], API 617 / 684 rule
+    /// At least three speeds at or above half power: otherwise the band is
+    /// narrower than the speed step, AF is a lower bound and the margin asked
+    /// for is taken at its cap.
+    bool        resolved = true;
     std::string fit_state;
   };
 
