@@ -78,6 +78,35 @@ def case(prm, outdir, sets=()):
     return args + [prm]
 
 
+def pictures(exe, prm, outdir, scripts_dir, python, *sets):
+    """Run PRM (with --set SETS) and check the pictures the run drew (PYTHON:
+    the interpreter with matplotlib the run itself uses): each
+    expected PNG exists, and each script, run again with --check-labels,
+    finds no label that overlaps another or leaves the frame."""
+    run(exe, case(prm, outdir, sets))
+    summary = open(os.path.join(outdir, "summary.txt")).read()
+    ok = True
+    jobs = [("plot_campbell.py", ["campbell.png"])]
+    if os.path.exists(os.path.join(outdir, "response.csv")):
+        jobs.append(("plot_response.py", ["response_bode.png", "response_polar.png"]))
+    if open(os.path.join(outdir, "contact.csv")).read().count("\n") > 1:
+        jobs.append(("plot_contact.py", ["contact.png"]))
+    for script, pngs in jobs:
+        for png in pngs:
+            there = os.path.getsize(os.path.join(outdir, png)) > 0 if os.path.exists(
+                os.path.join(outdir, png)) else False
+            print(f"{png} drawn by the run:", "ok" if there else "FAILED")
+            ok &= there
+        r = subprocess.run([python, os.path.join(scripts_dir, script), outdir,
+                            "--check-labels"], capture_output=True, text=True)
+        print(r.stdout[-2000:], r.stderr[-2000:])
+        print(f"{script} --check-labels:", "ok" if r.returncode == 0 else "FAILED")
+        ok &= r.returncode == 0
+    print("run.status completed:", "ok" if "run.status completed" in summary else "FAILED")
+    ok &= "run.status completed" in summary
+    return 0 if ok else 1
+
+
 def falls(exe, prm, outdir):
     """Contact fraction of every interface: 1 at the first speed, then
     strictly decreasing once below 1, and still > 0 (partial opening); the
@@ -392,6 +421,8 @@ if __name__ == "__main__":
         sys.exit(static_flags(*args))
     elif mode == "lock_and_signal":
         sys.exit(lock_and_signal(*args))
+    elif mode == "pictures":
+        sys.exit(pictures(*args))
     elif mode == "falls":
         sys.exit(falls(*args))
     elif mode == "softening":
