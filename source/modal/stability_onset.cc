@@ -42,67 +42,7 @@ namespace rotorfit
         }
     for (const WhirlMode *line : changed)
       {
-        StabilityOnset o;
-        o.tracked_id = line->tracked_id;
-        o.whirl      = line->whirl;
-        double a = previous_rpm, fa = previous.at(line->tracked_id).zeta;
-        double b = current.rpm, fb = damping_ratio(line->lambda);
-        o.direction = fa > 0 ? "unstable above" : "stable above";
-        o.rpm          = b;
-        o.frequency_hz = line->frequency_hz();
-        int side       = 0; // Illinois: halve the weight of an end kept twice
-        for (o.evaluations = 0; o.evaluations < 40; ++o.evaluations)
-          {
-            if (std::abs(b - a) <= 1e-6 * std::abs(b) || fb == 0)
-              {
-                o.converged = true;
-                break;
-              }
-            const double c = (a * fb - b * fa) / (fb - fa);
-            StaticState trial = state; // the later speed's affine law
-            trial.rpm         = c;
-            EigenSolution s;
-            try
-              {
-                s = eigen.solve(trial);
-              }
-            catch (const SolverFailure &e)
-              {
-                log << "Warning: stability onset of line " << o.tracked_id
-                    << ": the eigensolver failed at " << c << " r/min (" << e.what()
-                    << "); the bracket is kept.\n";
-                break;
-              }
-            double best = -1, fc = 0, freq = 0;
-            for (const auto &p : s.elastic)
-              {
-                const double mac = ModeTracker::mac(line->phi, line->m_phi, p.phi, p.m_phi);
-                if (mac > best)
-                  best = mac, fc = damping_ratio(p.lambda), freq = p.lambda.imag() / (2 * M_PI);
-              }
-            o.rpm          = c;
-            o.frequency_hz = freq;
-            if (std::abs(fc) < 1e-10)
-              {
-                o.converged = true;
-                ++o.evaluations;
-                break;
-              }
-            if ((fc > 0) == (fb > 0))
-              {
-                b = c, fb = fc;
-                if (side == -1)
-                  fa /= 2;
-                side = -1;
-              }
-            else
-              {
-                a = c, fa = fc;
-                if (side == 1)
-                  fb /= 2;
-                side = 1;
-              }
-          }
+        const StabilityOnset o = root_solve(*line, current.rpm, state, eigen);
         std::ostringstream m;
         m << "Stability onset: line " << o.tracked_id << " (" << o.whirl << ", "
           << std::setprecision(5) << o.frequency_hz << " Hz) is " << o.direction << ' '
@@ -118,6 +58,77 @@ namespace rotorfit
       previous[m.tracked_id] = {damping_ratio(m.lambda), m.frequency_hz(), m.whirl};
     previous_rpm = current.rpm;
     return onsets;
+  }
+
+  StabilityOnset
+  StabilityOnsets::root_solve(const WhirlMode         &line_at_b,
+                              const double             rpm_b,
+                              const StaticState       &state,
+                              PrestressedEigenproblem &eigen) const
+  {
+    const WhirlMode *line = &line_at_b;
+    StabilityOnset o;
+    o.tracked_id = line->tracked_id;
+    o.whirl      = line->whirl;
+    double a = previous_rpm, fa = previous.at(line->tracked_id).zeta;
+    double b = rpm_b, fb = damping_ratio(line->lambda);
+    o.direction = fa > 0 ? "unstable above" : "stable above";
+    o.rpm          = b;
+    o.frequency_hz = line->frequency_hz();
+    int side       = 0; // Illinois: halve the weight of an end kept twice
+    for (o.evaluations = 0; o.evaluations < 40; ++o.evaluations)
+      {
+        if (std::abs(b - a) <= 1e-6 * std::abs(b) || fb == 0)
+          {
+            o.converged = true;
+            break;
+          }
+        const double c = (a * fb - b * fa) / (fb - fa);
+        StaticState trial = state; // the later speed's affine law
+        trial.rpm         = c;
+        EigenSolution s;
+        try
+          {
+            s = eigen.solve(trial);
+          }
+        catch (const SolverFailure &e)
+          {
+            log << "Warning: stability onset of line " << o.tracked_id
+                << ": the eigensolver failed at " << c << " r/min (" << e.what()
+                << "); the bracket is kept.\n";
+            break;
+          }
+        double best = -1, fc = 0, freq = 0;
+        for (const auto &p : s.elastic)
+          {
+            const double mac = ModeTracker::mac(line->phi, line->m_phi, p.phi, p.m_phi);
+            if (mac > best)
+              best = mac, fc = damping_ratio(p.lambda), freq = p.lambda.imag() / (2 * M_PI);
+          }
+        o.rpm          = c;
+        o.frequency_hz = freq;
+        if (std::abs(fc) < 1e-10)
+          {
+            o.converged = true;
+            ++o.evaluations;
+            break;
+          }
+        if ((fc > 0) == (fb > 0))
+          {
+            b = c, fb = fc;
+            if (side == -1)
+              fa /= 2;
+            side = -1;
+          }
+        else
+          {
+            a = c, fa = fc;
+            if (side == 1)
+              fb /= 2;
+            side = 1;
+          }
+      }
+    return o;
   }
 
   void

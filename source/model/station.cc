@@ -120,28 +120,106 @@ namespace rotorfit
     return s.str();
   }
 
+  namespace
+  {
+    /// The material id of the body a band lies on (refused if unknown).
+    types::material_id
+    band_body(const Station &s, const Bodies &bodies)
+    {
+      std::string names;
+      for (unsigned int b = 0; b < bodies.size(); ++b)
+        {
+          if (bodies[b].name == s.body)
+            return b;
+          names += (names.empty() ? "" : ", ") + bodies[b].name;
+        }
+      throw InputError(s.owner + "/Body = '" + s.body + "' is not a body (Bodies = " + names +
+                       ").");
+    }
+
+    /// Whether a face may meet the band (its vertices bound a curved face up
+    /// to its sag, far below the margin of half the face's axial extent).
+    bool
+    near_band(const Station &s, const Triangulation<3>::face_iterator &face)
+    {
+      double lo = 1e300, hi = -1e300;
+      for (const unsigned int v : face->vertex_indices())
+        {
+          lo = std::min(lo, face->vertex(v)[2]);
+          hi = std::max(hi, face->vertex(v)[2]);
+        }
+      const double margin = 0.5 * (hi - lo);
+      return hi + margin >= s.axial_position - s.width / 2 &&
+             lo - margin <= s.axial_position + s.width / 2;
+    }
+
+    /// The points of a face that belong to the station: all of them on a
+    /// surface; on a band those with a radial outward normal inside it.
+    std::vector<unsigned int>
+    points_in(const Station &s, const FEFaceValues<3> &fe_face)
+    {
+      std::vector<unsigned int> points;
+      for (unsigned int q = 0; q < fe_face.n_quadrature_points; ++q)
+        {
+          const Point<3> &x = fe_face.quadrature_point(q);
+          if (s.is_band())
+            {
+              const double r = std::hypot(x[0], x[1]);
+              const auto  &n = fe_face.normal_vector(q);
+              if (r == 0 || (n[0] * x[0] + n[1] * x[1]) / r <= 0.5 ||
+                  std::abs(x[2] - s.axial_position) > s.width / 2)
+                continue;
+            }
+          points.push_back(q);
+        }
+      return points;
+    }
+
+    /// Integrals over the station as its faces are visited.
+    struct Integrals
+    {
+      // weight of every scalar node, keyed by its x DoF: (y DoF, int N_i dA)
+      std::map<types::global_dof_index, std::pair<types::global_dof_index, double>> w;
+      double area = 0, z_area = 0, r_area = 0, z_min = 1e300, z_max = -1e300;
+
+      void
+      add(const FEFaceValues<3>                     &fe_face,
+          const std::vector<unsigned int>          &points,
+          const std::vector<unsigned int>          &on_face,
+          const std::vector<types::global_dof_index> &dofs)
+      {
+        const auto &fe = fe_face.get_fe();
+        for (const unsigned int q : points)
+          {
+            const Point<3> &x = fe_face.quadrature_point(q);
+            area += fe_face.JxW(q);
+            z_area += x[2] * fe_face.JxW(q);
+            r_area += std::hypot(x[0], x[1]) * fe_face.JxW(q);
+            z_min = std::min(z_min, x[2]);
+            z_max = std::max(z_max, x[2]);
+            for (const unsigned int i : on_face)
+              if (fe.system_to_component_index(i).first == 0)
+                {
+                  // the y DoF of the same node: same scalar index
+                  const unsigned int iy =
+                    fe.component_to_system_index(1, fe.system_to_component_index(i).second);
+                  auto &e = w[dofs[i]];
+                  e.first = dofs[iy];
+                  e.second += fe_face.shape_value(i, q) * fe_face.JxW(q);
+                }
+          }
+      }
+    };
+  } // namespace
+
   void
   Station::setup(const Discretization &model, Log &log)
   {
-    const auto &mesh        = model.mesh();
-    const auto &dof_handler = model.dofs();
-    const auto &fe          = dof_handler.get_fe();
-    types::material_id body_id = numbers::invalid_material_id;
-    if (is_band())
-      {
-        for (unsigned int b = 0; b < model.bodies().size(); ++b)
-          if (model.bodies()[b].name == body)
-            body_id = b;
-        if (body_id == numbers::invalid_material_id)
-          {
-            std::string names;
-            for (const auto &b : model.bodies().list())
-              names += (names.empty() ? "" : ", ") + b.name;
-            throw InputError(owner + "/Body = '" + body + "' is not a body (Bodies = " + names +
-                             ").");
-          }
-      }
-    else
+    const auto &mesh = model.mesh();
+    const auto &fe   = model.dofs().get_fe();
+    const types::material_id body_id =
+      is_band() ? band_body(*this, model.bodies()) : numbers::invalid_material_id;
+    if (!is_band())
       mesh.check_surface_exists(surface, owner + "/Surface");
     std::vector<std::string> fit_surfaces;
     for (const auto &f : model.interfaces().list())
@@ -150,55 +228,23 @@ namespace rotorfit
     // a band is cut at quadrature points: a rich rule keeps its edges sharp
     const Quadrature<2> face_quadrature =
       is_band() ? subdivided_triangle_rule(8) : Quadrature<2>(QGaussSimplex<2>(fe.degree + 2));
-    FEFaceValues<3>        fe_face(mesh.mapping(),
+    FEFaceValues<3> fe_face(mesh.mapping(),
                             fe,
                             face_quadrature,
                             update_values | update_JxW_values | update_quadrature_points |
                               update_normal_vectors);
     std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
-    // weight of every scalar node, keyed by its x DoF: (y DoF, int N_i dA)
-    std::map<types::global_dof_index, std::pair<types::global_dof_index, double>> w;
-    double      z_area = 0, r_area = 0, z_min = 1e300, z_max = -1e300;
-    std::string on_fit;
-    area = 0;
-    for (const auto &cell : dof_handler.active_cell_iterators())
+    Integrals                            sum;
+    std::string                          on_fit;
+    for (const auto &cell : model.dofs().active_cell_iterators())
       for (const unsigned int f : cell->face_indices())
         {
-          if (!cell->face(f)->at_boundary())
+          if (!cell->face(f)->at_boundary() ||
+              (is_band() ? cell->material_id() != body_id || !near_band(*this, cell->face(f)) :
+                           !mesh.face_on_surface(surface, cell, f)))
             continue;
-          if (is_band() ? cell->material_id() != body_id :
-                          !mesh.face_on_surface(surface, cell, f))
-            continue;
-          if (is_band())
-            {
-              // only faces near the band (the vertices bound a curved face
-              // up to its sag, far below the margin of a face's extent)
-              double lo = 1e300, hi = -1e300;
-              for (const unsigned int v : cell->face(f)->vertex_indices())
-                {
-                  lo = std::min(lo, cell->face(f)->vertex(v)[2]);
-                  hi = std::max(hi, cell->face(f)->vertex(v)[2]);
-                }
-              const double margin = 0.5 * (hi - lo);
-              if (hi + margin < axial_position - width / 2 ||
-                  lo - margin > axial_position + width / 2)
-                continue;
-            }
           fe_face.reinit(cell, f);
-          std::vector<unsigned int> points;
-          for (unsigned int q = 0; q < face_quadrature.size(); ++q)
-            {
-              const Point<3> &x = fe_face.quadrature_point(q);
-              if (is_band())
-                {
-                  const double r = std::hypot(x[0], x[1]);
-                  const auto  &n = fe_face.normal_vector(q);
-                  if (r == 0 || (n[0] * x[0] + n[1] * x[1]) / r <= 0.5 ||
-                      std::abs(x[2] - axial_position) > width / 2)
-                    continue;
-                }
-              points.push_back(q);
-            }
+          const auto points = points_in(*this, fe_face);
           if (points.empty())
             continue;
           if (is_band())
@@ -206,43 +252,25 @@ namespace rotorfit
               if (mesh.face_on_surface(s, cell, f))
                 on_fit = s;
           cell->get_dof_indices(dofs);
-          const auto on_face = cell_dofs_on_face(cell, f);
-          for (const unsigned int q : points)
-            {
-              const Point<3> &x = fe_face.quadrature_point(q);
-              area += fe_face.JxW(q);
-              z_area += x[2] * fe_face.JxW(q);
-              r_area += std::hypot(x[0], x[1]) * fe_face.JxW(q);
-              z_min = std::min(z_min, x[2]);
-              z_max = std::max(z_max, x[2]);
-              for (const unsigned int i : on_face)
-                if (fe.system_to_component_index(i).first == 0)
-                  {
-                    // the y DoF of the same node: same scalar index
-                    const unsigned int iy =
-                      fe.component_to_system_index(1, fe.system_to_component_index(i).second);
-                    auto &e = w[dofs[i]];
-                    e.first = dofs[iy];
-                    e.second += fe_face.shape_value(i, q) * fe_face.JxW(q);
-                  }
-            }
+          sum.add(fe_face, points, cell_dofs_on_face(cell, f), dofs);
         }
     if (!on_fit.empty())
       throw InputError(owner + ": the " + describe() + " overlaps the fit surface '" + on_fit +
                        "'; a station acts on a free surface of the shaft (move the band "
                        "or narrow it).");
-    if (!(area > 0))
+    if (!(sum.area > 0))
       throw InputError(owner + ": the " + describe() +
                        (is_band() ? " meets no outer surface of the body (is the axial "
                                     "position inside the body's length and outside its fits?)" :
                                     " has no boundary faces in the mesh") +
                        ".");
-    z      = z_area / area;
-    radius = r_area / area;
+    area   = sum.area;
+    z      = sum.z_area / area;
+    radius = sum.r_area / area;
     dof_x.clear();
     dof_y.clear();
     weight.clear();
-    for (const auto &[dx, e] : w)
+    for (const auto &[dx, e] : sum.w)
       if (e.second != 0)
         {
           dof_x.push_back(dx);
@@ -250,20 +278,24 @@ namespace rotorfit
           weight.push_back(e.second / area);
         }
     if (is_band())
-      {
-        const double nominal = 2 * M_PI * radius * width;
-        std::ostringstream m;
-        m << std::setprecision(4) << "  " << owner << ": " << describe() << ": r " << radius * 1e3
-          << " mm, found z " << z_min * 1e3 << " .. " << z_max * 1e3 << " mm, area "
-          << area * 1e6 << " mm^2 = " << std::setprecision(3) << area / nominal
-          << " x 2 pi r w, " << weight.size() << " nodes\n";
-        log << m.str();
-        if (area < 0.75 * nominal || area > 1.33 * nominal)
-          log << "Warning: " << owner << ": the band's area is " << std::setprecision(3)
-              << area / nominal
-              << " x 2 pi r w: the surface mesh resolves this width coarsely, or the band "
-                 "covers an edge or a step; mark the band as a physical surface in the "
-                 ".geo for an exact one.\n";
-      }
+      log_band(log, sum.z_min, sum.z_max);
+  }
+
+  void
+  Station::log_band(Log &log, const double z_min, const double z_max) const
+  {
+    const double       nominal = 2 * M_PI * radius * width;
+    std::ostringstream m;
+    m << std::setprecision(4) << "  " << owner << ": " << describe() << ": r " << radius * 1e3
+      << " mm, found z " << z_min * 1e3 << " .. " << z_max * 1e3 << " mm, area " << area * 1e6
+      << " mm^2 = " << std::setprecision(3) << area / nominal << " x 2 pi r w, "
+      << weight.size() << " nodes\n";
+    log << m.str();
+    if (area < 0.75 * nominal || area > 1.33 * nominal)
+      log << "Warning: " << owner << ": the band's area is " << std::setprecision(3)
+          << area / nominal
+          << " x 2 pi r w: the surface mesh resolves this width coarsely, or the band "
+             "covers an edge or a step; mark the band as a physical surface in the "
+             ".geo for an exact one.\n";
   }
 } // namespace rotorfit

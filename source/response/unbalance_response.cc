@@ -197,6 +197,47 @@ namespace rotorfit
       /// V^T M V, V^T D V, V^T K V, grown with the basis
       std::vector<std::vector<double>> mr, dr, kr;
 
+      /// Galerkin on the basis: U = V y with (A + i B) y = V^T f, A = V^T (K -
+      /// w^2 M) V, B = w V^T D V, solved as the real block system
+      /// [A -B; B A] [y_re; y_im] = [V^T f_re; V^T f_im]; @p r becomes the
+      /// full-space residual f - (K - w^2 M + i w D) U.
+      void
+      solve(const ComplexVector &f, const double w, ComplexVector &u, ComplexVector &r)
+      {
+        const unsigned int k = v.size();
+        project();
+        LAPACKFullMatrix<double> S(2 * k, 2 * k);
+        Vector<double>           y(2 * k);
+        for (unsigned int i = 0; i < k; ++i)
+          {
+            for (unsigned int j = 0; j < k; ++j)
+              {
+                const double a = kr[i][j] - w * w * mr[i][j];
+                const double b = w * dr[i][j];
+                S(i, j) = S(k + i, k + j) = a;
+                S(i, k + j)               = -b;
+                S(k + i, j)               = b;
+              }
+            y[i]     = v[i] * f.re;
+            y[k + i] = v[i] * f.im;
+          }
+        S.compute_lu_factorization();
+        S.solve(y);
+        r    = f;
+        u.re = 0;
+        u.im = 0;
+        for (unsigned int j = 0; j < k; ++j)
+          {
+            const double yr = y[j], yi = y[k + j];
+            u.re.add(yr, v[j]);
+            u.im.add(yi, v[j]);
+            r.re.add(-yr, kv[j], w * w * yr, mv[j]);
+            r.re.add(w * yi, dv[j]);
+            r.im.add(-yi, kv[j], w * w * yi, mv[j]);
+            r.im.add(-w * yr, dv[j]);
+          }
+      }
+
       /// Complete the reduced matrices for the columns added since the
       /// last call (only the new rows and columns are computed).
       void
@@ -277,43 +318,10 @@ namespace rotorfit
           }
         for (unsigned int step = 0;; ++step)
           {
-            // reduced (A + i B) y = V^T f with A = V^T (K - w^2 M) V, B = w V^T D V
-            // as the real block system [A -B; B A] [y_re; y_im] = [g_re; g_im]
-            const unsigned int k = basis.v.size();
-            basis.project();
-            LAPACKFullMatrix<double> S(2 * k, 2 * k);
-            Vector<double>           y(2 * k);
-            for (unsigned int i = 0; i < k; ++i)
-              {
-                for (unsigned int j = 0; j < k; ++j)
-                  {
-                    const double a = basis.kr[i][j] - w * w * basis.mr[i][j];
-                    const double b = w * basis.dr[i][j];
-                    S(i, j) = S(k + i, k + j) = a;
-                    S(i, k + j)               = -b;
-                    S(k + i, j)               = b;
-                  }
-                y[i]     = basis.v[i] * f.re;
-                y[k + i] = basis.v[i] * f.im;
-              }
-            S.compute_lu_factorization();
-            S.solve(y);
-            // U = V y and the full-space residual r = f - (K - w^2 M + i w D) U
             ComplexVector r = f;
-            u.re            = 0;
-            u.im            = 0;
-            for (unsigned int j = 0; j < k; ++j)
-              {
-                const double yr = y[j], yi = y[k + j];
-                u.re.add(yr, basis.v[j]);
-                u.im.add(yi, basis.v[j]);
-                r.re.add(-yr, basis.kv[j], w * w * yr, basis.mv[j]);
-                r.re.add(w * yi, basis.dv[j]);
-                r.im.add(-yi, basis.kv[j], w * w * yi, basis.mv[j]);
-                r.im.add(-w * yr, basis.dv[j]);
-              }
+            basis.solve(f, w, u, r);
             out.residual   = std::sqrt(r.re.norm_sqr() + r.im.norm_sqr()) / f_norm;
-            out.basis_size = k;
+            out.basis_size = basis.v.size();
             if (out.residual <= tolerance)
               break;
             bool grown = false;
@@ -332,17 +340,7 @@ namespace rotorfit
       }
     if (!std::isfinite(out.residual))
       out.converged = false;
-    for (const auto &[name, s] : probes)
-      {
-        ProbeResponse p;
-        p.probe = name;
-        for (unsigned int i = 0; i < s.weight.size(); ++i)
-          {
-            p.x += s.weight[i] * std::complex<double>(u.re[s.dof_x[i]], u.im[s.dof_x[i]]);
-            p.y += s.weight[i] * std::complex<double>(u.re[s.dof_y[i]], u.im[s.dof_y[i]]);
-          }
-        out.probes.push_back(p);
-      }
+    out.probes = read_probes(u);
     if (!out.converged)
       {
         ++unconverged_speeds;
@@ -355,6 +353,24 @@ namespace rotorfit
     if (!(out.residual <= worst_residual))
       worst_residual = out.residual;
     history.push_back(out);
+    return out;
+  }
+
+  std::vector<ProbeResponse>
+  UnbalanceResponse::read_probes(const ComplexVector &u) const
+  {
+    std::vector<ProbeResponse> out;
+    for (const auto &[name, s] : probes)
+      {
+        ProbeResponse p;
+        p.probe = name;
+        for (unsigned int i = 0; i < s.weight.size(); ++i)
+          {
+            p.x += s.weight[i] * std::complex<double>(u.re[s.dof_x[i]], u.im[s.dof_x[i]]);
+            p.y += s.weight[i] * std::complex<double>(u.re[s.dof_y[i]], u.im[s.dof_y[i]]);
+          }
+        out.push_back(p);
+      }
     return out;
   }
 

@@ -51,6 +51,14 @@ namespace rotorfit
     finish(Summary &summary) const;
 
   private:
+    /// Illinois regula falsi on the damping ratio of @p line_at_b between
+    /// the previous speed and @p rpm_b (doc/theory.md 9.7).
+    StabilityOnset
+    root_solve(const WhirlMode         &line_at_b,
+               const double             rpm_b,
+               const StaticState       &state,
+               PrestressedEigenproblem &eigen) const;
+
     struct Point
     {
       double      zeta, frequency_hz;

@@ -44,6 +44,10 @@ namespace rotorfit
     void
     setup(const Discretization &model, Log &log);
 
+    /// The band's line in the log, and a warning if its area is off 2 pi r w.
+    void
+    log_band(Log &log, const double z_min, const double z_max) const;
+
     /// "surface 'end_left'" or "band z = 0.12 m, w = 5 mm on body 'shaft'".
     std::string
     describe() const;

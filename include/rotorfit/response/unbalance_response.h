@@ -137,6 +137,10 @@ namespace rotorfit
     ComplexVector
     forcing() const;
 
+    /// The averaged complex displacement of every probe.
+    std::vector<ProbeResponse>
+    read_probes(const ComplexVector &u) const;
+
     const Discretization &model;
     Log                  &log;
 
