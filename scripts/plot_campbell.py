@@ -32,28 +32,16 @@ mode line shows); a run with no speed above 0 (e.g. free-free) keeps 0 .. 1.1 x 
 Usage: plot_campbell.py OUTDIR [--fmax HZ] [--check-labels]
 """
 import argparse
-import csv
 import math
 import os
 import statistics
 import sys
 from collections import Counter, defaultdict
 
-
-def read_csv(path):
-    """Rows of a CSV file as dicts (empty list if the file is missing or has no data rows)."""
-    if not os.path.isfile(path):
-        return []
-    with open(path, newline="") as f:
-        return [{k.strip(): (v or "").strip() for k, v in r.items() if k} for r in csv.DictReader(f)]
+import plot_common
+from plot_common import labels_ok, num, read_csv
 
 
-def num(s, default=None):
-    try:
-        v = float(s.rstrip("xX"))
-        return v if math.isfinite(v) else default
-    except (AttributeError, ValueError):
-        return default
 
 
 def loss_of_fit(path):
@@ -111,19 +99,6 @@ def interpolate_track(pts, rpm):
     return pts[0][1] if len(pts) == 1 and pts[0][0] == rpm else None
 
 
-def _layout_module():
-    """label_layout.py next to this script."""
-    here = os.path.dirname(os.path.abspath(__file__))
-    if here not in sys.path:
-        sys.path.insert(0, here)
-    import label_layout
-    return label_layout
-
-
-def _labels_ok(fig, texts):
-    """True if the drawn boxes of texts neither overlap nor leave their axes / the figure
-    (renderer boxes text.get_window_extent() and background patches; problems on stderr)."""
-    return _layout_module().labels_ok(fig, texts)
 
 
 def main(outdir, fmax_cap=None, check_labels=False):
@@ -135,7 +110,7 @@ def main(outdir, fmax_cap=None, check_labels=False):
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
-        layout_module = _layout_module()
+        layout_module = plot_common.layout_module()
     except ImportError as e:
         sys.exit(f"plot_campbell.py: matplotlib not importable ({e})")
 
@@ -313,7 +288,7 @@ def main(outdir, fmax_cap=None, check_labels=False):
         items.append(dict(x=rpm, y=0.98 * ytop, text=f"loss of fit ({name})", prefer=("left", "down")))
     texts += layout.place(items, fontsize=8)
     fig.savefig(os.path.join(outdir, "campbell.png"), dpi=150)
-    ok = _labels_ok(fig, [t for t in texts if t is not None]) if check_labels else True
+    ok = labels_ok(fig, [t for t in texts if t is not None]) if check_labels else True
     plt.close(fig)
     if not ok:
         print("plot_campbell.py: labels overlap or leave the axes (see above)", file=sys.stderr)

@@ -25,42 +25,18 @@ interrupted). A missing contact.csv or one without rows: message on stderr, exit
 Usage: plot_contact.py OUTDIR [--check-labels]
 """
 import argparse
-import csv
 import math
 import os
 import re
 import sys
 
+import plot_common
+from plot_common import labels_ok, num, read_csv, summary_values
+
 EVENTS = (("first opening", "-."), ("half open", "--"), ("loss of fit", ":"))
 
 
-def read_csv(path):
-    """Rows of a CSV file as dicts (empty list if the file is missing or has no data rows)."""
-    if not os.path.isfile(path):
-        return []
-    with open(path, newline="") as f:
-        return [{k.strip(): (v or "").strip() for k, v in r.items() if k} for r in csv.DictReader(f)]
 
-
-def num(s, default=None):
-    """Float of a CSV field; default for empty, malformed, nan and inf."""
-    try:
-        v = float(s)
-        return v if math.isfinite(v) else default
-    except (TypeError, ValueError):
-        return default
-
-
-def summary_values(path):
-    """{key: value text} of summary.txt (empty if missing)."""
-    out = {}
-    if os.path.isfile(path):
-        with open(path) as f:
-            for line in f:
-                p = line.split(None, 1)
-                if len(p) == 2:
-                    out[p[0]] = p[1].strip()
-    return out
 
 
 def half_open(rows):
@@ -133,18 +109,6 @@ def pair_closed_fraction(path, totals, speeds):
     return out
 
 
-def _layout_module():
-    """label_layout.py next to this script."""
-    here = os.path.dirname(os.path.abspath(__file__))
-    if here not in sys.path:
-        sys.path.insert(0, here)
-    import label_layout
-    return label_layout
-
-
-def _labels_ok(fig, texts):
-    """True if the drawn boxes of texts neither overlap nor leave their axes / the figure."""
-    return _layout_module().labels_ok(fig, texts)
 
 
 def main(outdir, check_labels=False):
@@ -174,7 +138,7 @@ def main(outdir, check_labels=False):
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
-        layout_module = _layout_module()
+        layout_module = plot_common.layout_module()
     except ImportError as e:
         sys.exit(f"plot_contact.py: matplotlib not importable ({e})")
     for rows in by_interface.values():
@@ -262,7 +226,7 @@ def main(outdir, check_labels=False):
                                     prefer=("right", "up"))], fontsize=8, leader=False)
     texts += layout.place(items, fontsize=8)
     fig.savefig(os.path.join(outdir, "contact.png"), dpi=150)
-    ok = _labels_ok(fig, [t for t in texts if t is not None]) if check_labels else True
+    ok = labels_ok(fig, [t for t in texts if t is not None]) if check_labels else True
     plt.close(fig)
     if not ok:
         print("plot_contact.py: labels overlap or leave the axes (see above)", file=sys.stderr)

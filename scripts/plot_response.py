@@ -34,42 +34,18 @@ stay visible. A missing response.csv or one without rows: message on stderr, exi
 Usage: plot_response.py OUTDIR [--check-labels]
 """
 import argparse
-import csv
 import math
 import os
 import sys
+
+import plot_common
+from plot_common import labels_ok, num, read_csv, summary_values
 
 FIT_BANDS = {"partly open": ("#ffd9a8", "fit partly open"), "open": ("#ffb8b8", "fit open")}
 FIT_RANK = {"open": 3, "partly open": 2, "closed": 1}
 
 
-def read_csv(path):
-    """Rows of a CSV file as dicts (empty list if the file is missing or has no data rows)."""
-    if not os.path.isfile(path):
-        return []
-    with open(path, newline="") as f:
-        return [{k.strip(): (v or "").strip() for k, v in r.items() if k} for r in csv.DictReader(f)]
 
-
-def num(s, default=None):
-    """Float of a CSV field; default for empty, malformed, nan and inf."""
-    try:
-        v = float(s)
-        return v if math.isfinite(v) else default
-    except (TypeError, ValueError):
-        return default
-
-
-def summary_values(path):
-    """{key: [words]} of summary.txt (empty if missing)."""
-    out = {}
-    if os.path.isfile(path):
-        with open(path) as f:
-            for line in f:
-                p = line.split()
-                if len(p) >= 2:
-                    out[p[0]] = p[1:]
-    return out
 
 
 def fit_state(s):
@@ -186,23 +162,11 @@ def peak_label(row):
     return ", ".join(parts), bad
 
 
-def _layout_module():
-    """label_layout.py next to this script."""
-    here = os.path.dirname(os.path.abspath(__file__))
-    if here not in sys.path:
-        sys.path.insert(0, here)
-    import label_layout
-    return label_layout
-
-
-def _labels_ok(fig, texts):
-    """True if the drawn boxes of texts neither overlap nor leave their axes / the figure."""
-    return _layout_module().labels_ok(fig, texts)
 
 
 def title_of(outdir, what, status):
     case = os.path.basename(os.path.abspath(outdir))
-    st = status.get("run.status", [""])[0] if status.get("run.status") else ""
+    st = status.get("run.status", "").split()[0] if status.get("run.status") else ""
     bad = st in ("failed", "interrupted")
     return f"{what}: {case}" + (f" (run {st.upper()}: speeds up to the stop only)" if bad else ""), bad
 
@@ -387,11 +351,11 @@ def main(outdir, check_labels=False):
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
-        layout_module = _layout_module()
+        layout_module = plot_common.layout_module()
     except ImportError as e:
         sys.exit(f"plot_response.py: matplotlib not importable ({e})")
     summary = summary_values(os.path.join(outdir, "summary.txt"))
-    op = [num(v) for v in summary.get("response.operating_range_rpm", [])[:2]]
+    op = [num(v) for v in summary.get("response.operating_range_rpm", "").split()[:2]]
     op_range = tuple(sorted(op)) if len(op) == 2 and None not in op else None
     peaks = read_csv(os.path.join(outdir, "response_peaks.csv"))
     ok = True
@@ -400,7 +364,7 @@ def main(outdir, check_labels=False):
                        ("response_polar.png", lambda: draw_polar(plt, layout_module, outdir, probes, summary))):
         fig, texts = draw()
         fig.savefig(os.path.join(outdir, name), dpi=150)
-        if check_labels and not _labels_ok(fig, [t for t in texts if t is not None]):
+        if check_labels and not labels_ok(fig, [t for t in texts if t is not None]):
             print(f"plot_response.py: labels of {name} overlap or leave the axes (see above)", file=sys.stderr)
             ok = False
         plt.close(fig)
