@@ -511,6 +511,97 @@ def check_free_spin(exe, prm, out, tol):
     return 0 if ok else 1
 
 
+def check_ring_symmetry(exe, prm, out, n_theta, rtol):
+    """Exact rotational symmetry of a mesh that maps onto itself under a
+    rotation of 2 pi / N_THETA: every ring of contact pairs (same z, radius
+    and angle within the cell) opens at one speed (pair_openings.csv, to
+    RTOL), the contact state is symmetric at every speed (asymmetry 0 in
+    contact.csv), the sweep does reach a partly open fit, and at rest every
+    whirl pair is a doublet (to RTOL)."""
+    run_test.run(exe, prepare(prm, out))
+    n, rtol, ok = int(n_theta), float(rtol), True
+    rings = {}
+    for r in rows(out, "pair_openings.csv"):
+        x, y, z = float(r["x_m"]), float(r["y_m"]), float(r["z_m"])
+        phase = ((math.atan2(y, x) + 0.75 * math.pi) / (2 * math.pi / n)) % 1.0
+        key = (round(z, 9), round(math.hypot(x, y), 9), round(phase, 6) % 1.0)
+        rings.setdefault(key, []).append(float(r["opening_rpm"]))
+    worst = max((max(v) - min(v)) / max(v) for v in rings.values())
+    sizes = {len(v) for v in rings.values()}
+    good = worst <= rtol and sizes == {n}
+    print(f"{len(rings)} rings of pairs, sizes {sorted(sizes)} (expected {{{n}}}); widest spread "
+          f"of opening speeds in a ring {worst:.2e} (tolerance {rtol:g}) {'ok' if good else 'FAILED'}")
+    ok &= good
+    contact = rows(out, "contact.csv")
+    asym = max(float(r["asymmetry"]) for r in contact)
+    partly = [float(r["speed_rpm"]) for r in contact if 0 < float(r["contact_fraction"]) < 1]
+    good = asym == 0 and len(partly) > 0
+    print(f"largest contact asymmetry {asym:g} (expected 0); partly open at {partly} r/min "
+          f"{'ok' if good else 'FAILED'}")
+    ok &= good
+    for bw, fw in whirl_pairs(rows(out), 0.0):
+        ok &= report(f"0 r/min doublet {bw:.6g} Hz: forward", fw, bw, rtol, reference=False)
+    return 0 if ok else 1
+
+
+def check_study(exe, study, out, script, tol):
+    """The study driver (scripts/study.py) on the plane-strain Lame case on
+    hexahedra, three meshes: its Richardson-extrapolated pressure at rest and
+    loss-of-fit speed within TOL of the closed forms (tests/lame.py values in
+    lame_plane_strain_hex.output), with a positive observed order, and the
+    table has a row per run with DOFs, time and memory."""
+    subprocess.run([sys.executable, script, study, "--rotorfit", exe, "--output", out], check=True)
+    exact = {}
+    for line in open(os.path.join(os.path.dirname(study), "lame_plane_strain_hex.output")):
+        if line.strip() and not line.startswith("#"):
+            key, value = line.split()[:2]
+            exact[key] = float(value)
+    ext = {r["quantity"]: r for r in rows(out, "extrapolated.csv")}
+    ok = True
+    for q, key in (("p0_mpa", "interface.fit.mean_pressure_first_speed_Pa"),
+                   ("full_open", "interface.fit.loss_of_fit_rpm")):
+        scale = 1e-6 if q == "p0_mpa" else 1.0
+        ok &= report(f"extrapolated {q}", float(ext[q]["extrapolated"]), exact[key] * scale, float(tol))
+        order = float(ext[q]["observed_order"])
+        good = order > 1
+        print(f"observed order of {q}: {order:.3g} (> 1) {'ok' if good else 'FAILED'}")
+        ok &= good
+    table = rows(out, "study.csv")
+    good = len(table) == 3 and all(int(r["dofs"]) > 0 and float(r["wall_s"]) > 0 and
+                                   float(r["peak_mb"]) > 0 for r in table)
+    print(f"study.csv: {len(table)} runs with DOFs, time and memory {'ok' if good else 'FAILED'}")
+    return 0 if ok and good else 1
+
+
+def check_refinement(exe, prm, out, cycles, ratio, tol, *sets):
+    """Adaptive refinement of the section mesh on the plane-strain Lame case
+    (static indicator): after CYCLES cycles the errors of the pressure at rest
+    and of the loss-of-fit speed against the closed forms (tests/lame.py, in
+    lame_plane_strain_hex.output) are at most RATIO times those of cycle 0,
+    and within TOL; every cycle left its results in cycle_<k>/."""
+    run_test.run(exe, prepare(prm, out, ["Mesh refinement/Cycles=" + cycles] + list(sets)))
+    exact = {}
+    for line in open(os.path.join(os.path.dirname(os.path.abspath(prm)), "lame_plane_strain_hex.output")):
+        if line.strip() and not line.startswith("#"):
+            key, value = line.split()[:2]
+            exact[key] = float(value)
+    ok = True
+    final = dict(l.split(None, 1) for l in open(os.path.join(out, "summary.txt")) if l.strip())
+    first = dict(l.split(None, 1) for l in open(os.path.join(out, "cycle_0", "summary.txt")) if l.strip())
+    for k in range(int(cycles)):
+        good = os.path.exists(os.path.join(out, f"cycle_{k}", "summary.txt"))
+        print(f"cycle_{k}/summary.txt {'written' if good else 'MISSING'}")
+        ok &= good
+    for key in ("interface.fit.mean_pressure_first_speed_Pa", "interface.fit.loss_of_fit_rpm"):
+        e0 = abs(float(first[key]) - exact[key]) / exact[key]
+        e1 = abs(float(final[key]) - exact[key]) / exact[key]
+        good = e1 <= float(ratio) * e0 and e1 <= float(tol)
+        print(f"{key}: error {e0:.2e} on cycle 0, {e1:.2e} after {cycles} cycles "
+              f"(at most {ratio} x and {tol}) {'ok' if good else 'FAILED'}")
+        ok &= good
+    return 0 if ok else 1
+
+
 def check_pair_shift(exe, prm_a, out_a, prm_b, out_b, rpm, pair, lo, hi):
     run_test.run(exe, prepare(prm_a, out_a))
     run_test.run(exe, prepare(prm_b, out_b))
@@ -666,7 +757,9 @@ if __name__ == "__main__":
               "loss_of_fit": check_loss_of_fit, "fixed": check_fixed,
               "stiffening": check_stiffening, "bearing_table": check_bearing_table,
               "unbalance": check_unbalance, "stability_onset": check_stability_onset,
-              "torsion_crossing": check_torsion_crossing, "mpi": check_mpi, "failure": check_failure}
+              "torsion_crossing": check_torsion_crossing,
+              "ring_symmetry": check_ring_symmetry, "study": check_study,
+              "refinement": check_refinement, "mpi": check_mpi, "failure": check_failure}
     if mode not in checks:
         sys.exit(f"unknown mode {mode}")
     status = checks[mode](*args)

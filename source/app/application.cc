@@ -1,4 +1,5 @@
 #include <rotorfit/app/application.h>
+#include <rotorfit/base/format.h>
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/base/log.h>
 #include <rotorfit/base/parameter_file.h>
@@ -222,6 +223,62 @@ namespace rotorfit
       return exit_code::success;
     }
 
+    /**
+     * Adaptive refinement (doc/theory.md 1.4): Mesh refinement/Cycles runs
+     * of the case at its indicator speeds, each in <output>/cycle_<k>/, each
+     * refining the section mesh where its indicators are largest. Returns
+     * the nodes the final run's mesh adds, or sets @p code when a cycle
+     * stopped (its results stay in its folder).
+     */
+    SectionMesh::Refinement
+    refine_mesh(const CaseOptions  &options,
+                const RotorProblem &main,
+                const MPI_Comm      comm,
+                Log                &log,
+                int                &code)
+    {
+      const MeshRefinement   &r = main.mesh_refinement();
+      SectionMesh::Refinement refinement;
+      std::string             list;
+      for (const double s : r.speeds())
+        list += (list.empty() ? "" : ", ") + format_number(s);
+      const std::string dir = std::filesystem::path(options.file).parent_path().string();
+      code                  = exit_code::success;
+      for (unsigned int c = 0; c < r.cycles(); ++c)
+        {
+          ParameterHandler prm;
+          parse_file(prm, options.file);
+          apply_sets(prm, options.sets);
+          apply_sets(prm,
+                     {{"Speeds/Mode", "list"},
+                      {"Speeds/List", list},
+                      {"Output/Write ParaView files", "false"},
+                      {"Eigenproblem/Write mode shapes", "false"},
+                      {"Output/Pictures", "false"},
+                      {"Mesh refinement/Cycles", "0"}});
+          RotorProblem cycle(comm, log);
+          cycle.parse_parameters(prm,
+                                 dir.empty() ? "." : dir,
+                                 main.output_directory() + "/cycle_" + std::to_string(c));
+          cycle.prepare_output(prm);
+          cycle.start_refinement_cycle(refinement);
+          log << "Mesh refinement: cycle " << c << " of " << r.cycles() << " at " << list
+              << " r/min, results in " << cycle.output_directory() << '\n';
+          cycle.setup();
+          code = run_sweep(cycle, comm, log);
+          if (code != exit_code::success)
+            return refinement;
+          if (r.dof_target() > 0 && cycle.n_dofs() >= r.dof_target())
+            {
+              log << "Mesh refinement: " << cycle.n_dofs() << " DOFs reach the DOF target "
+                  << r.dof_target() << "; no further cycle.\n";
+              break;
+            }
+          refinement = cycle.refine();
+        }
+      return refinement;
+    }
+
     /// Validate or run one case; every way out is an exit code, and once the
     /// output folder is ours, a status in its summary.txt.
     int
@@ -260,6 +317,17 @@ namespace rotorfit
               << ROTORFIT_BUILD_TYPE << "), deal.II " << DEAL_II_PACKAGE_VERSION << ", "
               << Utilities::MPI::n_mpi_processes(comm) << " MPI rank(s)\n"
               << "Case: " << file << '\n';
+          if (!validate && problem->mesh_refinement().cycles() > 0)
+            {
+              int        code       = exit_code::success;
+              const auto refinement = refine_mesh(options, *problem, comm, log, code);
+              problem->use_refinement(refinement);
+              if (code != exit_code::success)
+                return stop(code == exit_code::interrupted ? "interrupted" : "failed",
+                            code,
+                            "mesh refinement",
+                            "a refinement cycle stopped; its results are in its cycle_<k> folder");
+            }
           problem->setup();
           if (validate)
             {

@@ -183,7 +183,7 @@ namespace rotorfit
         mesh.check_surface_exists(def.hub_surface, "Interface " + def.name + "/Hub surface");
         InterfaceSides sides;
         collect_sides(mesh, dof_handler, support_points, def, sides);
-        const auto pair_of = match_sides(f, def, sides, mesh.matching_tolerance());
+        const auto pair_of = match_sides(f, def, sides, mesh.matching_tolerance(), mesh.coincidence_hint());
         assemble_surface(f, sides, pair_of, mesh, dof_handler.get_fe());
       }
   }
@@ -192,7 +192,8 @@ namespace rotorfit
   ContactPairs::match_sides(const unsigned int         f,
                             const InterfaceDefinition &def,
                             const InterfaceSides      &sides,
-                            const double               tolerance)
+                            const double               tolerance,
+                            const std::string         &hint)
   {
     // pair by coordinates: sort the hub side by x and search a window
     std::vector<SidePoint> hub;
@@ -247,8 +248,7 @@ namespace rotorfit
           << def.shaft_surface << "'/'" << def.hub_surface
           << "' have no coincident partner on the other body (first at (" << first_unmatched
           << ") m). Both bodies must carry coincident nodes on the fit: "
-             "mesh them together (gmsh BooleanFragments) or raise "
-             "Geometry/Interface matching tolerance.";
+          << hint;
         throw InputError(s.str());
       }
     return pair_of_shaft_dof;
@@ -272,7 +272,7 @@ namespace rotorfit
     surface.pattern.copy_from(dsp);
     surface.mass.reinit(surface.pattern);
 
-    const QGaussSimplex<2>               face_quadrature(3);
+    const Quadrature<2>                  face_quadrature = mesh.face_rule(3);
     FEFaceValues<3>                      fe_face(mesh.mapping(), fe, face_quadrature,
                             update_values | update_JxW_values);
     std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());

@@ -224,7 +224,7 @@ namespace rotorfit
     if (!compute)
       return;
     TimerOutput::Scope t(timer, "eigen: assembly (M, K, G, K_theta)");
-    matrices.assemble(model.dofs(), model.mesh().mapping(), model.bodies());
+    matrices.assemble(model.dofs(), model.mesh().mapping(), model.mesh().cell_quadrature(), model.bodies());
   }
 
   unsigned int
@@ -312,7 +312,7 @@ namespace rotorfit
     const double w             = state.w();
     const auto  &decomposition = state.decomposition();
     const auto  &dofs          = model.dofs();
-    const auto  &mapping       = model.mesh().mapping();
+    const auto  &mesh          = model.mesh();
     const auto  &bodies        = model.bodies();
     const IndexSet all         = complete_index_set(dofs.n_dofs());
     PETScWrappers::MPI::Vector u(model.locally_owned_dofs(), all, comm);
@@ -322,9 +322,9 @@ namespace rotorfit
         if (decomposition.serial != k_sigma_serial)
           {
             u = decomposition.u_I;
-            matrices.assemble_stress_stiffness(dofs, mapping, bodies, u, k_sigma_I);
+            matrices.assemble_stress_stiffness(dofs, mesh.mapping(), mesh.cell_quadrature(), bodies, u, k_sigma_I);
             u = decomposition.u_C;
-            matrices.assemble_stress_stiffness(dofs, mapping, bodies, u, k_sigma_C);
+            matrices.assemble_stress_stiffness(dofs, mesh.mapping(), mesh.cell_quadrature(), bodies, u, k_sigma_C);
             k_sigma_serial = decomposition.serial;
           }
         MatAXPY(tangent, 1., k_sigma_I, SAME_NONZERO_PATTERN);
@@ -335,7 +335,7 @@ namespace rotorfit
       {
         // the whole solution at this speed (the tangent is exact there)
         state.displacement(u);
-        matrices.assemble_stress_stiffness(dofs, mapping, bodies, u, k_sigma_I);
+        matrices.assemble_stress_stiffness(dofs, mesh.mapping(), mesh.cell_quadrature(), bodies, u, k_sigma_I);
         k_sigma_serial = 0;
         MatAXPY(tangent, 1., k_sigma_I, SAME_NONZERO_PATTERN);
       }

@@ -32,12 +32,12 @@ namespace rotorfit
   void
   RotorMatrices::assemble(const DoFHandler<3> &dof_handler,
                           const Mapping<3>    &mapping,
+                          const Quadrature<3> &quadrature,
                           const Bodies        &bodies)
   {
     const auto &fe = dof_handler.get_fe();
     // the same rule as the static solve: the cancellation of K_sigma and
     // Omega^2 K_theta on rigid tilt needs consistent integration (doc/theory.md 0)
-    const QGaussSimplex<3> quadrature(fe.degree + 2);
     FEValues<3>            fe_values(mapping,
                           fe,
                           quadrature,
@@ -107,13 +107,13 @@ namespace rotorfit
   void
   RotorMatrices::assemble_stress_stiffness(const DoFHandler<3>              &dof_handler,
                                            const Mapping<3>                 &mapping,
+                                           const Quadrature<3>              &quadrature,
                                            const Bodies                     &bodies,
                                            const PETScWrappers::MPI::Vector &u,
                                            PETScWrappers::MPI::SparseMatrix &k_sigma) const
   {
     reinit_like(k_sigma);
     const auto            &fe = dof_handler.get_fe();
-    const QGaussSimplex<3> quadrature(fe.degree + 2);
     FEValues<3>            fe_values(mapping,
                           fe,
                           quadrature,

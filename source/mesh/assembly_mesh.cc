@@ -7,8 +7,10 @@
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/utilities.h>
 
+#include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/fe_simplex_p.h>
 #include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/mapping_q.h>
 
 #include <deal.II/grid/reference_cell.h>
 #include <deal.II/grid/tria_description.h>
@@ -39,6 +41,14 @@ namespace rotorfit
   AssemblyMesh::declare_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Geometry");
+    prm.declare_entry("Mesher",
+                      "gmsh",
+                      Patterns::Selection("gmsh|sections"),
+                      "gmsh: quadratic tetrahedra of the Geometry file. sections: "
+                      "hexahedra that rotorfit builds from the axial sections of "
+                      "every body (Body <name>/Sections, subsection Sections); no "
+                      "Geometry file is needed.");
+    SectionMesh::declare_parameters(prm);
     prm.declare_entry("Geometry file",
                       "",
                       Patterns::FileName(),
@@ -58,8 +68,8 @@ namespace rotorfit
     prm.declare_entry("Element order",
                       "2",
                       Patterns::Integer(1, 2),
-                      "Polynomial degree of the displacement field on the "
-                      "tetrahedra (1 or 2). The geometry is always quadratic.");
+                      "Polynomial degree of the displacement field (1 or 2), on "
+                      "tetrahedra or hexahedra. The geometry is always quadratic.");
     prm.declare_entry("Interface matching tolerance",
                       "1e-8",
                       Patterns::Double(0.),
@@ -70,10 +80,21 @@ namespace rotorfit
   }
 
   void
-  AssemblyMesh::parse_parameters(ParameterHandler &prm,
-                                 const std::string &prm_directory)
+  AssemblyMesh::parse_parameters(ParameterHandler               &prm,
+                                 const std::string              &prm_directory,
+                                 const std::vector<std::string> &body_names)
   {
     prm.enter_subsection("Geometry");
+    use_sections = (prm.get("Mesher") == "sections");
+    order        = prm.get_integer("Element order");
+    match_tol    = prm.get_double("Interface matching tolerance");
+    if (use_sections)
+      {
+        section_mesh.parse_parameters(prm);
+        prm.leave_subsection();
+        section_mesh.parse_body_parameters(prm, body_names);
+        return;
+      }
     geometry_filename = prm.get("Geometry file");
     if (geometry_filename.empty())
       throw InputError("Geometry/Geometry file is not set; give a .geo or "
@@ -120,8 +141,6 @@ namespace rotorfit
                              "'; check the spelling (it must be declared "
                              "there with DefineConstant).");
       }
-    order     = prm.get_integer("Element order");
-    match_tol = prm.get_double("Interface matching tolerance");
     prm.leave_subsection();
   }
 
@@ -255,6 +274,11 @@ namespace rotorfit
   void
   AssemblyMesh::create(const std::vector<std::string> &body_volumes)
   {
+    if (use_sections)
+      {
+        create_from_sections();
+        return;
+      }
     // mesh on rank 0 only, then broadcast: gmsh is serial and every rank
     // must see exactly the same mesh
     GmshData    data;
@@ -468,28 +492,106 @@ namespace rotorfit
   }
 
   void
+  AssemblyMesh::create_from_sections()
+  {
+    // the same estimate as for gmsh, before anything is built
+    const double cells = section_mesh.n_cells();
+    const double dofs  = cells * 3 * (order == 2 ? 8 : 1);
+    const double bytes = resources::factorization_bytes(dofs, false);
+    const double limit = resources::physical_memory_bytes();
+    if (bytes > 0.9 * limit)
+      {
+        std::ostringstream m;
+        m << std::setprecision(3) << "Geometry/Sections: the mesh would have " << cells
+          << " hexahedra, about " << dofs << " DOFs; their factorisation alone needs about "
+          << resources::gigabytes(bytes) << " of the " << resources::gigabytes(limit)
+          << " this run may use. Coarsen it (Element size, Fit element size, "
+             "Circumferential cells) or use a bigger machine.";
+        throw InputError(m.str());
+      }
+    section_mesh.create(tria, boundary_names);
+    mapping_ptr = std::make_unique<MappingQ<3>>(2);
+    check_jacobians();
+  }
+
+  std::unique_ptr<FiniteElement<3>>
+  AssemblyMesh::scalar_element() const
+  {
+    if (use_sections)
+      return std::make_unique<FE_Q<3>>(order);
+    return std::make_unique<FE_SimplexP<3>>(order);
+  }
+
+  Quadrature<3>
+  AssemblyMesh::cell_quadrature() const
+  {
+    if (use_sections)
+      return QGauss<3>(order + 1);
+    return QGaussSimplex<3>(order + 2);
+  }
+
+  Quadrature<2>
+  AssemblyMesh::face_rule(const unsigned int n) const
+  {
+    if (use_sections)
+      return QGauss<2>(n);
+    return QGaussSimplex<2>(n);
+  }
+
+  Quadrature<2>
+  AssemblyMesh::face_point_grid(const unsigned int n) const
+  {
+    if (use_sections)
+      return QIterated<2>(QGauss<1>(2), n);
+    // n x n sub-triangles, 3 points each
+    const QGaussSimplex<2> base(2);
+    std::vector<Point<2>>  points;
+    std::vector<double>    weights;
+    const auto add = [&](const Point<2> &a, const Point<2> &b, const Point<2> &c) {
+      for (unsigned int q = 0; q < base.size(); ++q)
+        {
+          const Point<2> &x = base.point(q);
+          points.push_back(a + x[0] * (b - a) + x[1] * (c - a));
+          weights.push_back(base.weight(q) / (n * n));
+        }
+    };
+    const double h = 1. / n;
+    for (unsigned int i = 0; i < n; ++i)
+      for (unsigned int j = 0; i + j < n; ++j)
+        {
+          const Point<2> p(i * h, j * h);
+          add(p, p + Point<2>(h, 0), p + Point<2>(0, h));
+          if (i + j + 1 < n)
+            add(p + Point<2>(h, 0), p + Point<2>(h, h), p + Point<2>(0, h));
+        }
+    return Quadrature<2>(points, weights);
+  }
+
+  void
   AssemblyMesh::check_jacobians() const
   {
-    const QGaussSimplex<3> quadrature(3);
-    FEValues<3>            fe_values(*mapping_ptr,
-                          position_fe,
-                          quadrature,
+    const auto  fe = scalar_element();
+    FEValues<3> fe_values(*mapping_ptr,
+                          *fe,
+                          use_sections ? Quadrature<3>(QGauss<3>(3)) : Quadrature<3>(QGaussSimplex<3>(3)),
                           update_jacobians | update_quadrature_points);
+    const unsigned int n_q = fe_values.n_quadrature_points;
+    const std::string source = use_sections ? std::string("Geometry/Sections") :
+                                              "Geometry/Geometry file '" + geometry_filename + "'";
     std::string error;
-    for (const auto &cell : position_dof_handler.active_cell_iterators())
+    for (const auto &cell : tria.active_cell_iterators())
       if (cell->is_locally_owned() && error.empty())
         {
           fe_values.reinit(cell);
-          for (unsigned int q = 0; q < quadrature.size(); ++q)
+          for (unsigned int q = 0; q < n_q; ++q)
             if (!(determinant(Tensor<2, 3>(fe_values.jacobian(q))) > 0))
               {
                 std::ostringstream s;
-                s << "Geometry/Geometry file '" << geometry_filename
-                  << "': a curved tetrahedron of body number "
+                s << source << ": a curved cell of body number "
                   << cell->material_id() << " near point ("
                   << fe_values.quadrature_point(q)
                   << ") is inverted (negative Jacobian); use a smaller "
-                     "element size there (h_fit/h_max).";
+                     "element size there.";
                 error = s.str();
                 break;
               }
@@ -505,6 +607,12 @@ namespace rotorfit
                                 const Triangulation<3>::cell_iterator &cell,
                                 const unsigned int face_no) const
   {
+    if (use_sections)
+      {
+        const auto face = cell->face(face_no);
+        return face->at_boundary() && boundary_names.count(face->boundary_id()) &&
+               boundary_names.at(face->boundary_id()).count(name) > 0;
+      }
     const auto it = surfaces.find(name);
     if (it == surfaces.end())
       return false;
@@ -520,6 +628,22 @@ namespace rotorfit
   AssemblyMesh::check_surface_exists(const std::string &name,
                                      const std::string &entry) const
   {
+    if (use_sections)
+      {
+        std::set<std::string> known;
+        for (const auto &[id, names] : boundary_names)
+          known.insert(names.begin(), names.end());
+        if (known.count(name) == 0)
+          {
+            std::string list;
+            for (const auto &s : known)
+              list += (list.empty() ? "" : ", ") + s;
+            throw InputError(entry + " = '" + name +
+                             "' is not a surface of Geometry/Sections/Surfaces; it has: " +
+                             list + ".");
+          }
+        return;
+      }
     if (surfaces.count(name) == 0 || surfaces.at(name).empty())
       {
         std::string known;

@@ -43,7 +43,7 @@ namespace rotorfit
         z_min = std::min(z_min, p[2]);
         z_max = std::max(z_max, p[2]);
       }
-    const QGaussSimplex<3> quadrature(fe.degree + 2);
+    const Quadrature<3>    quadrature = model.mesh().cell_quadrature();
     FEValues<3>            fe_values(model.mesh().mapping(), fe, quadrature,
                           update_values | update_quadrature_points | update_JxW_values);
     std::vector<std::map<types::global_dof_index, std::pair<types::global_dof_index, double>>>

@@ -42,8 +42,11 @@ namespace rotorfit
   void
   Discretization::parse_parameters(ParameterHandler &prm, const std::string &prm_directory)
   {
-    assembly_mesh.parse_parameters(prm, prm_directory);
     body_list.parse_parameters(prm);
+    std::vector<std::string> body_names;
+    for (const auto &b : body_list.list())
+      body_names.push_back(b.name);
+    assembly_mesh.parse_parameters(prm, prm_directory, body_names);
     interface_list.parse_parameters(prm);
     prm.enter_subsection("Supports");
     rollers = Utilities::split_string_list(prm.get("Axial roller surfaces"), ',');
@@ -59,7 +62,7 @@ namespace rotorfit
       assembly_mesh.create(body_list.physical_volumes());
     }
     TimerOutput::Scope t(timer, "setup (DoFs, pairs, constraints)");
-    fe = std::make_unique<FESystem<3>>(FE_SimplexP<3>(assembly_mesh.element_order()), 3);
+    fe = std::make_unique<FESystem<3>>(*assembly_mesh.scalar_element(), 3);
     dof_handler.reinit(assembly_mesh.triangulation());
     dof_handler.distribute_dofs(*fe);
     owned = dof_handler.locally_owned_dofs();
@@ -74,9 +77,10 @@ namespace rotorfit
       assembly_mesh, dof_handler, points, body_names, rollers, constraints);
     constraints.close();
 
+    log << assembly_mesh.describe();
     log << "Mesh: " << assembly_mesh.triangulation().n_global_active_cells()
-        << " tetrahedra, " << dof_handler.n_dofs() << " DOFs (P"
-        << assembly_mesh.element_order() << ", quadratic geometry), "
+        << " " << assembly_mesh.cell_name() << ", " << dof_handler.n_dofs() << " DOFs ("
+        << (assembly_mesh.hexahedral() ? "Q" : "P") << assembly_mesh.element_order() << ", quadratic geometry), "
         << Utilities::MPI::n_mpi_processes(comm) << " MPI rank(s)\n";
     for (unsigned int i = 0; i < contact_pairs.n_interfaces(); ++i)
       log << "Interface " << interface_list.list()[i].name << ": "

@@ -16,36 +16,6 @@ namespace rotorfit
 {
   using namespace dealii;
 
-  namespace
-  {
-    /// A triangle rule on n x n sub-triangles (3 points each): a band cut at
-    /// its points has edges sharp to about h / (2 n), h the face size.
-    Quadrature<2>
-    subdivided_triangle_rule(const unsigned int n)
-    {
-      const QGaussSimplex<2> base(2);
-      std::vector<Point<2>>  points;
-      std::vector<double>    weights;
-      const auto add = [&](const Point<2> &a, const Point<2> &b, const Point<2> &c) {
-        for (unsigned int q = 0; q < base.size(); ++q)
-          {
-            const Point<2> &x = base.point(q);
-            points.push_back(a + x[0] * (b - a) + x[1] * (c - a));
-            weights.push_back(base.weight(q) / (n * n));
-          }
-      };
-      const double h = 1. / n;
-      for (unsigned int i = 0; i < n; ++i)
-        for (unsigned int j = 0; i + j < n; ++j)
-          {
-            const Point<2> p(i * h, j * h);
-            add(p, p + Point<2>(h, 0), p + Point<2>(0, h));
-            if (i + j + 1 < n)
-              add(p + Point<2>(h, 0), p + Point<2>(h, h), p + Point<2>(0, h));
-          }
-      return Quadrature<2>(points, weights);
-    }
-  } // namespace
 
   void
   Station::declare_parameters(ParameterHandler &prm, const std::string &what)
@@ -227,7 +197,7 @@ namespace rotorfit
 
     // a band is cut at quadrature points: a rich rule keeps its edges sharp
     const Quadrature<2> face_quadrature =
-      is_band() ? subdivided_triangle_rule(8) : Quadrature<2>(QGaussSimplex<2>(fe.degree + 2));
+      is_band() ? mesh.face_point_grid(8) : mesh.face_rule(fe.degree + 2);
     FEFaceValues<3> fe_face(mesh.mapping(),
                             fe,
                             face_quadrature,

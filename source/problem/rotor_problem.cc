@@ -23,6 +23,8 @@ namespace rotorfit
   RotorProblem::run()
   {
     assemble_speed_independent_matrices();
+    if (collect_indicators)
+      refinement.reset(model);
     const auto &rpm = speeds.speeds_rpm();
     for (unsigned int k = 0; k < rpm.size(); ++k)
       {
@@ -30,6 +32,8 @@ namespace rotorfit
         current_step = k;
 
         const StaticState &state = statics.solve(rpm[k], k);
+        if (collect_indicators)
+          refinement.add_static(model, state);
         {
           TimerOutput::Scope t(timer, "output (tables, ParaView)");
           results.add(state);
@@ -41,6 +45,8 @@ namespace rotorfit
             // factorisation per speed where the contact changes)
             statics.release_factorization();
             EigenSolution solution = eigen.solve(state);
+            if (collect_indicators)
+              refinement.add_modes(model, solution);
             if (response.enabled())
               {
                 TimerOutput::Scope t(timer, "unbalance response");

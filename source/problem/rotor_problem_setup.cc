@@ -1,5 +1,6 @@
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/base/resources.h>
+#include <rotorfit/mesh/section_mesh.h>
 #include <rotorfit/problem/rotor_problem.h>
 
 #include <deal.II/base/mpi.h>
@@ -38,7 +39,9 @@ namespace rotorfit
     PrestressedEigenproblem::declare_parameters(prm);
     ModalAnalysis::declare_parameters(prm);
     Results::declare_parameters(prm);
+    MeshRefinement::declare_parameters(prm);
     Bodies::declare_parameters(prm, names.bodies);
+    SectionMesh::declare_body_parameters(prm, names.bodies);
     ContactInterfaces::declare_parameters(prm, names.interfaces);
     Bearings::declare_parameters(prm, names.bearings);
     UnbalanceResponse::declare_lists(prm);
@@ -65,6 +68,7 @@ namespace rotorfit
     modal.parse_parameters(prm);
     response.parse_parameters(prm, eigen.enabled());
     results.parse_parameters(prm, output_override);
+    refinement.parse_parameters(prm, model.mesh().hexahedral());
     prm.enter_subsection("Contact");
     stop_on_loss_of_fit = prm.get("On loss of fit") == "stop";
     prm.leave_subsection();

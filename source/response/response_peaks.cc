@@ -42,7 +42,9 @@ namespace rotorfit
         margin = 100 * (rpm - hi) / hi, required = above;
       else
         margin = -100 * std::min(rpm - lo, hi - rpm) / hi, required = std::max(below, above);
-      if (!std::isfinite(af))
+      // a resolved peak without an AF (half power beyond the sweep) has no
+      // rule to apply; an unresolved one keeps the cap
+      if (!std::isfinite(af) && resolved)
         required = nan;
     }
   } // namespace
@@ -86,23 +88,33 @@ namespace rotorfit
               ++above;
             peak.resolved = above >= 3;
             peak.low_rpm = peak.high_rpm = nan;
+            // the inner end of a crossing is the sample, or the parabola's top
+            // when even the highest sample lies below half power (a peak
+            // far sharper than the speed step)
+            const auto inner = [&](const unsigned int j) {
+              return a[j] >= level ? std::make_pair(x[j], a[j]) :
+                                     std::make_pair(peak.rpm, peak.amplitude);
+            };
             for (unsigned int j = i; j > 0; --j)
               if (a[j - 1] < level)
                 {
-                  peak.low_rpm = crossing(x[j - 1], a[j - 1], x[j], a[j], level);
+                  const auto [xj, aj] = inner(j);
+                  peak.low_rpm        = crossing(x[j - 1], a[j - 1], xj, aj, level);
                   break;
                 }
             for (unsigned int j = i; j + 1 < x.size(); ++j)
               if (a[j + 1] < level)
                 {
-                  peak.high_rpm = crossing(x[j], a[j], x[j + 1], a[j + 1], level);
+                  const auto [xj, aj] = inner(j);
+                  peak.high_rpm       = crossing(xj, aj, x[j + 1], a[j + 1], level);
                   break;
                 }
             // a wiggle that falls to half power on neither side is no
             // resonance; one side beyond the sweep: kept with AF = nan
             if (std::isnan(peak.low_rpm) && std::isnan(peak.high_rpm))
               continue;
-            peak.amplification_factor = peak.rpm / (peak.high_rpm - peak.low_rpm);
+            peak.amplification_factor =
+              peak.high_rpm > peak.low_rpm ? peak.rpm / (peak.high_rpm - peak.low_rpm) : nan;
             peak.separation_margin = peak.required_margin = nan;
             if (operating.size() == 2)
               margins(peak.rpm, peak.amplification_factor, peak.resolved, operating[0],

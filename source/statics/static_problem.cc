@@ -113,7 +113,7 @@ namespace rotorfit
     const auto            &fe         = model.dofs().get_fe();
     const auto            &bodies     = model.bodies();
     const auto            &constraints = model.static_constraints();
-    const QGaussSimplex<3> quadrature(model.element_order() + 2);
+    const Quadrature<3>    quadrature = model.mesh().cell_quadrature();
     FEValues<3>            fe_values(model.mesh().mapping(),
                           fe,
                           quadrature,

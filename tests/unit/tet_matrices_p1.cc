@@ -8,7 +8,7 @@
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
-#include <deal.II/base/quadrature.h>
+#include <deal.II/base/quadrature_lib.h>
 
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/dofs/dof_tools.h>
@@ -62,7 +62,7 @@ main(int argc, char **argv)
 
   rotorfit::RotorMatrices matrices;
   matrices.reinit(complete_index_set(n), sparsity, MPI_COMM_WORLD);
-  matrices.assemble(dof_handler, mapping, bodies);
+  matrices.assemble(dof_handler, mapping, QGaussSimplex<3>(3), bodies); // the code's rule for P1: order + 2
 
   // local matrices in cell DoF order; component and vertex of each DoF
   const auto                           cell = dof_handler.begin_active();

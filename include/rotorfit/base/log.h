@@ -19,12 +19,16 @@ namespace rotorfit
       : active(active)
     {}
 
-    /// Start copying everything into @p filename (rank 0 only).
+    /// Start copying everything into @p filename (rank 0 only), closing the
+    /// file before; @p append: continue it (a refinement cycle wrote its own).
     void
-    open_file(const std::string &filename)
+    open_file(const std::string &filename, const bool append = false)
     {
-      if (active)
-        file.open(filename);
+      if (!active)
+        return;
+      if (file.is_open())
+        file.close();
+      file.open(filename, append ? std::ios::app : std::ios::out);
     }
 
     template <typename T>

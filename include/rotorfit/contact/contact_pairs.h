@@ -160,7 +160,8 @@ namespace rotorfit
     match_sides(const unsigned int         f,
                 const InterfaceDefinition &definition,
                 const InterfaceSides      &sides,
-                const double               tolerance);
+                const double               tolerance,
+                const std::string         &hint);
 
     /// Surface mass matrix and face areas of interface @p f (shaft side).
     void

@@ -3,6 +3,7 @@
 #include <rotorfit/material/bodies.h>
 
 #include <deal.II/base/index_set.h>
+#include <deal.II/base/quadrature.h>
 
 #include <deal.II/dofs/dof_handler.h>
 
@@ -35,12 +36,14 @@ namespace rotorfit
     void
     assemble(const dealii::DoFHandler<3> &dof_handler,
              const dealii::Mapping<3>    &mapping,
+             const dealii::Quadrature<3> &quadrature,
              const Bodies                &bodies);
 
     /// K_sigma of the static displacement @p u (ghosted, all DoFs) into @p k_sigma.
     void
     assemble_stress_stiffness(const dealii::DoFHandler<3>              &dof_handler,
                               const dealii::Mapping<3>                 &mapping,
+                              const dealii::Quadrature<3>              &quadrature,
                               const Bodies                             &bodies,
                               const dealii::PETScWrappers::MPI::Vector &u,
                               dealii::PETScWrappers::MPI::SparseMatrix &k_sigma) const;

@@ -9,8 +9,12 @@
 
 #include <deal.II/grid/tria_description.h>
 
+#include <deal.II/base/quadrature.h>
+
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/mapping_fe_field.h>
+
+#include <rotorfit/mesh/section_mesh.h>
 
 #include <deal.II/lac/vector.h>
 
@@ -26,8 +30,11 @@ namespace rotorfit
   /**
    * The finite element mesh of an assembly of separate bodies that touch.
    *
-   * The geometry (gmsh .geo, meshed in-process through the gmsh API, or a
-   * ready .msh) is read on rank 0 and broadcast. Every physical volume named
+   * Two meshers (Geometry/Mesher). gmsh: quadratic tetrahedra of a .geo,
+   * meshed in-process through the gmsh API, or of a ready .msh, read on
+   * rank 0 and broadcast. sections: hexahedra of axisymmetric bodies given
+   * as axial sections (SectionMesh), curved by manifolds and a quadratic
+   * MappingQ; named surfaces are boundary ids. With gmsh: Every physical volume named
    * by a body becomes one body (material_id = body index); vertices shared by
    * two bodies are duplicated, one copy per body, so that each body is a
    * separate mesh and the contact pairs can be built on the interface.
@@ -45,10 +52,78 @@ namespace rotorfit
     static void
     declare_parameters(dealii::ParameterHandler &prm);
 
-    /// @p prm_directory resolves a relative geometry file name.
+    /// @p prm_directory resolves a relative geometry file name; the section
+    /// mesher reads the entry "Sections" of every body in @p body_names.
     void
-    parse_parameters(dealii::ParameterHandler &prm,
-                     const std::string        &prm_directory);
+    parse_parameters(dealii::ParameterHandler       &prm,
+                     const std::string              &prm_directory,
+                     const std::vector<std::string> &body_names);
+
+    /// Whether the cells are hexahedra (section mesher) or tetrahedra (gmsh).
+    bool
+    hexahedral() const
+    {
+      return use_sections;
+    }
+
+    /// The scalar Lagrange element of the displacement on these cells.
+    std::unique_ptr<dealii::FiniteElement<3>>
+    scalar_element() const;
+
+    /// The one rule of every volume integral: Gauss with order + 2 points
+    /// on tetrahedra, order + 1 per direction on hexahedra (exact for mass,
+    /// stiffness and stress stiffening on straight cells).
+    dealii::Quadrature<3>
+    cell_quadrature() const;
+
+    /// Gauss rule on a face with @p n points per direction (simplex or
+    /// tensor, as the cells are).
+    dealii::Quadrature<2>
+    face_rule(const unsigned int n) const;
+
+    /// Points on a face at n x n sub-cells (equal weights summing to the
+    /// reference face's measure): a band station is cut at them.
+    dealii::Quadrature<2>
+    face_point_grid(const unsigned int n) const;
+
+    /// The section mesher's layout (one line per body), or "" with gmsh.
+    std::string
+    describe() const
+    {
+      return use_sections ? section_mesh.describe() : std::string();
+    }
+
+    /// The section mesher (its layout and refinement).
+    const SectionMesh &
+    sections() const
+    {
+      return section_mesh;
+    }
+
+    /// Nodes adaptive refinement adds to the section mesh (before create()).
+    void
+    set_refinement(const SectionMesh::Refinement &r)
+    {
+      section_mesh.set_refinement(r);
+    }
+
+    /// What to change when the two sides of a fit have no coincident nodes.
+    std::string
+    coincidence_hint() const
+    {
+      return use_sections ?
+               "give both bodies the same radius there in their Sections (the "
+               "interference is set in the Interface, not in the geometry)." :
+               "mesh them together (gmsh BooleanFragments) or raise "
+               "Geometry/Interface matching tolerance.";
+    }
+
+    /// "tetrahedra" or "hexahedra".
+    std::string
+    cell_name() const
+    {
+      return use_sections ? "hexahedra" : "tetrahedra";
+    }
 
     /**
      * Mesh the geometry and build the triangulation. @p body_volumes are the
@@ -150,8 +225,15 @@ namespace rotorfit
     void
     check_jacobians() const;
 
+    void
+    create_from_sections();
+
     MPI_Comm                                   comm;
     dealii::parallel::shared::Triangulation<3> tria;
+
+    bool                                                              use_sections = false;
+    SectionMesh                                                       section_mesh;
+    std::map<dealii::types::boundary_id, std::set<std::string>>       boundary_names;
 
     std::string                   geometry_filename;
     std::map<std::string, double> geometry_parameters;
@@ -161,8 +243,7 @@ namespace rotorfit
     dealii::FESystem<3>    position_fe;
     dealii::DoFHandler<3>  position_dof_handler;
     dealii::Vector<double> positions;
-    std::unique_ptr<dealii::MappingFEField<3, 3, dealii::Vector<double>>>
-      mapping_ptr;
+    std::unique_ptr<dealii::Mapping<3>> mapping_ptr;
 
     std::map<std::string, std::set<std::array<unsigned int, 3>>> surfaces;
   };

@@ -43,6 +43,13 @@ namespace rotorfit
     void
     parse_parameters(dealii::ParameterHandler &prm, const std::string &prm_directory);
 
+    /// Nodes adaptive refinement adds to the section mesh (before setup()).
+    void
+    set_mesh_refinement(const SectionMesh::Refinement &r)
+    {
+      assembly_mesh.set_refinement(r);
+    }
+
     /// Mesh (gmsh), DoFs, support points, pairs and supports; refuses an
     /// interference beyond the small-strain model.
     void

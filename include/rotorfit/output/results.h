@@ -51,6 +51,13 @@ namespace rotorfit
     void
     prepare_directory(const dealii::ParameterHandler &prm);
 
+    /// Continue log.txt (after refinement cycles wrote theirs).
+    void
+    reopen_log()
+    {
+      log.open_file(output_dir + "/log.txt", true);
+    }
+
     /// Open the tables: before the first speed.
     void
     open(const Discretization &model, const bool with_modes, const bool with_response);

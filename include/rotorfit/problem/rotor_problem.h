@@ -6,6 +6,7 @@
 #include <rotorfit/modal/stability_onset.h>
 #include <rotorfit/response/unbalance_response.h>
 #include <rotorfit/model/discretization.h>
+#include <rotorfit/refinement/mesh_refinement.h>
 #include <rotorfit/output/results.h>
 #include <rotorfit/statics/speed_schedule.h>
 #include <rotorfit/statics/static_problem.h>
@@ -89,6 +90,44 @@ namespace rotorfit
     void
     run();
 
+    /// Adaptive refinement (Mesh refinement): its parameters.
+    const MeshRefinement &
+    mesh_refinement() const
+    {
+      return refinement;
+    }
+
+    /// A refinement cycle: this mesh's added nodes, and collect the
+    /// indicators during run().
+    void
+    start_refinement_cycle(const SectionMesh::Refinement &r)
+    {
+      model.set_mesh_refinement(r);
+      collect_indicators = true;
+    }
+
+    /// The final run on the refined mesh; its log continues.
+    void
+    use_refinement(const SectionMesh::Refinement &r)
+    {
+      model.set_mesh_refinement(r);
+      results.reopen_log();
+    }
+
+    /// After a cycle's run(): the nodes of the next mesh.
+    SectionMesh::Refinement
+    refine() const
+    {
+      return refinement.refine(model, log);
+    }
+
+    /// DoFs of the mesh after setup().
+    dealii::types::global_dof_index
+    n_dofs() const
+    {
+      return model.dofs().n_dofs();
+    }
+
     /// summary.txt (with @p status: completed, failed, interrupted,
     /// refused, and where and why it stopped), campbell.png and the timing.
     /// Once only; never throws.
@@ -138,6 +177,8 @@ namespace rotorfit
     StabilityOnsets         onsets;
     UnbalanceResponse       response;
     Results                 results;
+    MeshRefinement          refinement;
+    bool                    collect_indicators = false;
     bool                    stop_on_loss_of_fit = false;
 
     // where the sweep is (progress(), finish())

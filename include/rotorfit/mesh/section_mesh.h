@@ -1,0 +1,189 @@
+#pragma once
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/types.h>
+
+#include <deal.II/grid/tria.h>
+
+#include <deal.II/lac/vector.h>
+
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace rotorfit
+{
+  /**
+   * The hexahedral mesher of axisymmetric bodies given as axial sections
+   * (doc/theory.md 1.3): every body is a stack of sections (cylinders,
+   * annuli, cones: z from, z to, inner and outer radius at each end) meshed
+   * with quadrilaterals in the (r, z) half-plane and revolved into N
+   * circumferential cells. A solid section gets an O-grid core (a square of
+   * (N/4)^2 cells and one transition ring) so that no cell degenerates on the
+   * axis. The ring part of the mesh maps onto itself under a rotation of
+   * 2 pi / N; the core under pi / 2.
+   *
+   * All bodies share the axial nodes (every section end of every body is
+   * one) and the angles, so the two sides of a fit carry coincident vertices
+   * and support points by construction. Axial and radial sizes grade from
+   * the fit element size at the fits to the element size away from them.
+   * Ring cells carry a cylindrical chart manifold (exact on cylinders and
+   * cones); with a quadratic mapping the geometry is curved.
+   *
+   * Named surfaces (for interfaces, bearings, probes, rollers) are built from
+   * selectors on the bodies' boundaries and set as boundary ids.
+   *
+   * Parameters: subsection "Geometry/Sections" and the entry "Sections" of
+   * every "Body <name>".
+   */
+  class SectionMesh
+  {
+  public:
+    /// One axial section: a cylinder, annulus or cone (radii linear in z).
+    struct Section
+    {
+      double z0, z1, ri0, ro0, ri1, ro1;
+      double
+      ri(const double z) const;
+      double
+      ro(const double z) const;
+      bool
+      solid() const
+      {
+        return ri0 == 0;
+      }
+    };
+
+    /// Which boundary of a body a selector picks.
+    enum class Side
+    {
+      outer,
+      inner,
+      start,
+      end
+    };
+    struct Selector
+    {
+      unsigned int body;
+      Side         side;
+      double       z_from, z_to;
+    };
+
+    /**
+     * Nodes added by adaptive refinement (doc/theory.md 1.4): axial nodes
+     * (every body at that z) and radial fractions of a run of sections
+     * (keyed by body and its first section). Whole rings are refined, so the
+     * mesh stays conforming, hanging-node free and rotationally symmetric.
+     */
+    struct Refinement
+    {
+      std::vector<double>                                                  z;
+      std::map<std::pair<unsigned int, unsigned int>, std::vector<double>> fractions;
+      unsigned int layers_split = 0, intervals_split = 0;
+    };
+
+    /// Inside subsection "Geometry".
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+    /// The "Sections" entry of every "Body <name>".
+    static void
+    declare_body_parameters(dealii::ParameterHandler       &prm,
+                            const std::vector<std::string> &bodies);
+
+    /// Inside subsection "Geometry".
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+    /// At the top level, after parse_parameters().
+    void
+    parse_body_parameters(dealii::ParameterHandler       &prm,
+                          const std::vector<std::string> &bodies);
+
+    /// Hexahedra before they are built (for the size check).
+    double
+    n_cells() const;
+
+    /**
+     * Build the coarse mesh into @p tria: material_id = body index, manifold
+     * id 1 (cylindrical chart) on the ring cells, boundary ids whose names
+     * go to @p names (id -> surface names; id 0 has none).
+     */
+    void
+    create(dealii::Triangulation<3>                                   &tria,
+           std::map<dealii::types::boundary_id, std::set<std::string>> &names) const;
+
+    /// Add these nodes to the next create().
+    void
+    set_refinement(const Refinement &r)
+    {
+      refinement = r;
+    }
+
+    const Refinement &
+    current_refinement() const
+    {
+      return refinement;
+    }
+
+    /**
+     * The refinement after this one: the axial layers and the radial
+     * intervals holding the largest sums of @p indicator^2 (per active cell
+     * of @p tria, the mesh this object created), a share @p fraction of each,
+     * are split in the middle.
+     */
+    Refinement
+    refined(const dealii::Triangulation<3> &tria,
+            const dealii::Vector<float>    &indicator,
+            const double                    fraction) const;
+
+    /// One line per body for the log.
+    std::string
+    describe() const;
+
+    unsigned int
+    circumferential_cells() const
+    {
+      return n_theta;
+    }
+
+  private:
+    /// A run of sections of one body with continuous radii: one set of
+    /// radial fractions between its inner boundary and its outer radius.
+    struct Chain
+    {
+      unsigned int        body;
+      unsigned int        first, last; ///< sections [first, last]
+      bool                solid;
+      bool                inner_fit = false, outer_fit = false;
+      std::vector<double> fractions; ///< 0 .. 1, inner to outer
+      std::vector<double> added;     ///< fractions of the refinement
+    };
+
+    void
+    check_sections(const unsigned int b) const;
+    void
+    find_fits(std::vector<std::pair<double, double>> &zones) const;
+    std::vector<double>
+    axial_nodes(const std::vector<std::pair<double, double>> &zones) const;
+    std::vector<Chain>
+    make_chains() const;
+    void
+    radial_fractions(std::vector<Chain> &chains) const;
+    double
+    inner_radius(const Chain &c, const Section &s, const double z) const;
+    const Section &
+    section_at(const unsigned int body, const double z) const;
+    double
+    size_at(const double d_fit) const;
+
+    unsigned int                                  n_theta = 24;
+    double                                        h_max   = 8e-3;
+    double                                        h_fit   = 4e-3;
+    std::vector<std::string>                      body_names;
+    std::vector<std::vector<Section>>             sections;
+    std::vector<double>                           core_radius;
+    std::string                                   surfaces_text;
+    Refinement                                    refinement;
+    std::map<std::string, std::vector<Selector>> surfaces;
+  };
+} // namespace rotorfit

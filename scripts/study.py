@@ -1,0 +1,257 @@
+#!/usr/bin/env python3
+"""rotorfit's study driver: one case over a list of settings, one table.
+
+    python3 scripts/study.py STUDY.json [--rotorfit PATH] [--output DIR]
+
+STUDY.json names the case (a .prm, relative to the study file), the speeds of
+the static sweep (dense around the fit's opening: the half-open speed is
+interpolated in them), the speeds of the modal runs, entries set on every run,
+and series of runs. Each run of a series is the case with its own entries set
+(rotorfit --set 'Subsection/Entry=value'); a series is one method refined
+step by step (finer element sizes, more refinement cycles). Per run: DOFs,
+wall time and peak memory of both runs, first, half and full opening speed,
+mean contact pressure at rest, the constraint error, the whirl pairs at the
+modal speeds, the 1X critical speeds. Per series and quantity, from its three
+finest runs: the Richardson-extrapolated value and the observed order, with
+the effective element size h = DOFs^(-1/3) (doc/accuracy.md); each run's
+error against it.
+
+{
+  "case": "../prm/test_shaft.prm",
+  "static speeds": "0, 20000, 20500, 21000",
+  "modal speeds": "0, 10000, 20000",
+  "pairs": 2,
+  "set": {"Output/Write ParaView files": "false"},
+  "series": [
+    {"name": "tet P2", "set": {"Geometry/Mesher": "gmsh"},
+     "runs": [{"Geometry/Geometry parameters": "h_fit: 4e-3, h_max: 8e-3"}, ...]}
+  ]
+}
+
+Writes DIR/study.csv (one row per run), DIR/extrapolated.csv (one row per
+series and quantity) and DIR/study.md (both as Markdown tables); each run's
+results stay in DIR/<series>/<run>/{static,modal}/.
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import re
+import subprocess
+import sys
+import time
+
+
+def run_rotorfit(exe, prm, out, sets):
+    """Run rotorfit; return (log text, wall seconds, peak resident MB)."""
+    os.makedirs(out, exist_ok=True)
+    args = [exe, "--output", out]
+    for k, v in sets.items():
+        args += ["--set", f"{k}={v}"]
+    args.append(prm)
+    start = time.time()
+    with open(os.path.join(out, "stdout.txt"), "w") as log, \
+            open(os.path.join(out, "stderr.txt"), "w") as err:
+        p = subprocess.Popen(args, stdout=log, stderr=err)
+        _, status, usage = os.wait4(p.pid, 0)
+    wall = time.time() - start
+    text = open(os.path.join(out, "stdout.txt")).read()
+    if os.waitstatus_to_exitcode(status) != 0:
+        sys.exit(f"study: rotorfit failed in {out} (exit {os.waitstatus_to_exitcode(status)}):\n"
+                 + open(os.path.join(out, "stderr.txt")).read())
+    return text, wall, usage.ru_maxrss / 1024.0
+
+
+def summary(out):
+    s = {}
+    for line in open(os.path.join(out, "summary.txt")):
+        parts = line.split(None, 1)
+        if len(parts) == 2:
+            s[parts[0]] = parts[1].strip()
+    return s
+
+
+def num(x):
+    try:
+        return float(x)
+    except (TypeError, ValueError):
+        return math.nan
+
+
+def half_open(out, interface):
+    """Speed where the contact fraction falls through 0.5 (linear between speeds)."""
+    rows = [r for r in csv.DictReader(open(os.path.join(out, "contact.csv")))
+            if r["interface"] == interface]
+    for a, b in zip(rows, rows[1:]):
+        fa, fb = num(a["contact_fraction"]), num(b["contact_fraction"])
+        if fa >= 0.5 > fb:
+            wa, wb = num(a["speed_rpm"]), num(b["speed_rpm"])
+            return wa + (fa - 0.5) / (fa - fb) * (wb - wa)
+    return math.nan
+
+
+def whirl_pairs(out, speeds, n_pairs):
+    """{'f1b@0': Hz, 'f1f@0': Hz, ...}: the lateral pairs in order of frequency."""
+    path = os.path.join(out, "campbell.csv")
+    rows = list(csv.DictReader(open(path))) if os.path.exists(path) else []
+    q = {}
+    for rpm in speeds:
+        at = [r for r in rows if num(r["speed_rpm"]) == rpm]
+        bw = sorted(num(r["frequency_hz"]) for r in at if r["whirl"] == "backward")
+        fw = sorted(num(r["frequency_hz"]) for r in at if r["whirl"] == "forward")
+        for k in range(n_pairs):
+            q[f"f{k + 1}b@{rpm:g}"] = bw[k] if k < len(bw) else math.nan
+            q[f"f{k + 1}f@{rpm:g}"] = fw[k] if k < len(fw) else math.nan
+    return q
+
+
+def critical_speeds(out, n_pairs):
+    """The 1X crossings of the first pairs' lines, backward and forward."""
+    q = {}
+    path = os.path.join(out, "critical_speeds.csv")
+    rows = list(csv.DictReader(open(path))) if os.path.exists(path) else []
+    for whirl, tag in (("backward", "b"), ("forward", "f")):
+        found = sorted(num(r["speed_rpm"]) for r in rows
+                       if r["whirl"] == whirl and num(r["order"]) == 1)
+        for k in range(n_pairs):
+            q[f"crit{k + 1}{tag}"] = found[k] if k < len(found) else math.nan
+    return q
+
+
+def richardson(h, f):
+    """Extrapolated value and observed order from three (h, f), h decreasing:
+    f = f0 + C h^p, p solved by bisection on (f1 - f2)/(f2 - f3)."""
+    (h1, h2, h3), (f1, f2, f3) = h, f
+    if any(math.isnan(x) for x in f) or f2 == f3 or f1 == f2:
+        return (f3 if f1 == f2 == f3 else math.nan), math.nan
+    ratio = (f1 - f2) / (f2 - f3)
+    g = lambda p: (h1 ** p - h2 ** p) / (h2 ** p - h3 ** p) - ratio
+    lo, hi = 0.05, 12.0
+    if ratio <= 0 or g(lo) * g(hi) > 0:
+        return math.nan, math.nan  # not monotone: no asymptotic range yet
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if g(lo) * g(mid) <= 0:
+            hi = mid
+        else:
+            lo = mid
+    p = 0.5 * (lo + hi)
+    c = (f2 - f3) / (h2 ** p - h3 ** p)
+    return f3 - c * h3 ** p, p
+
+
+def run_one(study, base_dir, exe, out, sets):
+    case = os.path.normpath(os.path.join(base_dir, study["case"]))
+    common = dict(study.get("set", {}))
+    common.update(sets)
+    static = dict(common)
+    static.update({"Speeds/Mode": "list", "Speeds/List": study["static speeds"],
+                   "Eigenproblem/Compute modes": "false", "Output/Pictures": "false",
+                   "Output/Write ParaView files": "false"})
+    log_s, wall_s, mem_s = run_rotorfit(exe, case, os.path.join(out, "static"), static)
+    modal = dict(common)
+    modal.update({"Speeds/Mode": "list", "Speeds/List": study["modal speeds"],
+                  "Output/Pictures": "false", "Output/Write ParaView files": "false",
+                  "Eigenproblem/Write mode shapes": "false"})
+    log_m, wall_m, mem_m = run_rotorfit(exe, case, os.path.join(out, "modal"), modal)
+
+    s = summary(os.path.join(out, "static"))
+    interfaces = sorted({k.split(".")[1] for k in s if k.startswith("interface.")})
+    f = interfaces[0] if interfaces else ""
+    m = re.search(r"Mesh: (\d+) (\w+), (\d+) DOFs \((\w+)", log_s)
+    row = {"dofs": int(m.group(3)) if m else 0, "cells": int(m.group(1)) if m else 0,
+           "element": (m.group(2)[:3] + " " + m.group(4)) if m else "",
+           "wall_s": round(wall_s + wall_m, 2), "static_wall_s": round(wall_s, 2),
+           "modal_wall_s": round(wall_m, 2), "peak_mb": round(max(mem_s, mem_m), 1),
+           "pairs": int(num(s.get(f"interface.{f}.pairs", "nan")) or 0),
+           "p0_mpa": num(s.get(f"interface.{f}.mean_pressure_first_speed_Pa")) / 1e6,
+           "first_open": num(s.get(f"interface.{f}.first_opening_rpm")),
+           "half_open": half_open(os.path.join(out, "static"), f),
+           "full_open": num(s.get(f"interface.{f}.loss_of_fit_rpm")),
+           "constraint_error": num(s.get(f"interface.{f}.constraint_error_max"))}
+    speeds = [num(x) for x in study["modal speeds"].split(",")]
+    row.update(whirl_pairs(os.path.join(out, "modal"), speeds, study.get("pairs", 2)))
+    row.update(critical_speeds(os.path.join(out, "modal"), study.get("pairs", 2)))
+    return row
+
+
+QUANTITIES_FIXED = ["p0_mpa", "first_open", "half_open", "full_open"]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("study")
+    ap.add_argument("--rotorfit", default=os.environ.get("ROTORFIT", "rotorfit"))
+    ap.add_argument("--output", default=None)
+    a = ap.parse_args()
+    study = json.load(open(a.study))
+    base_dir = os.path.dirname(os.path.abspath(a.study))
+    out_dir = a.output or os.path.join(os.getcwd(), "study_" + os.path.splitext(os.path.basename(a.study))[0])
+    for key in ("case", "static speeds", "modal speeds", "series"):
+        if key not in study:
+            sys.exit(f"study: '{a.study}' has no \"{key}\"")
+    rows = []
+    for series in study["series"]:
+        for i, run in enumerate(series["runs"]):
+            sets = dict(series.get("set", {}))
+            sets.update(run)
+            name = re.sub(r"[^A-Za-z0-9]+", "_", series["name"]).strip("_")
+            out = os.path.join(out_dir, name, str(i))
+            print(f"study: {series['name']} run {i}: {sets}", flush=True)
+            row = {"series": series["name"], "run": i}
+            row.update(run_one(study, base_dir, a.rotorfit, out, sets))
+            rows.append(row)
+            print(f"  {row['dofs']} DOFs, {row['wall_s']} s, {row['peak_mb']} MB", flush=True)
+
+    quantities = [k for k in rows[0] if k in QUANTITIES_FIXED or "@" in k or k.startswith("crit")]
+    extrapolated = []
+    for series in study["series"]:
+        mine = [r for r in rows if r["series"] == series["name"]]
+        mine.sort(key=lambda r: r["dofs"])
+        for q in quantities:
+            value, order = math.nan, math.nan
+            if len(mine) >= 3:
+                last = mine[-3:]
+                value, order = richardson([r["dofs"] ** (-1 / 3) for r in last], [r[q] for r in last])
+            extrapolated.append({"series": series["name"], "quantity": q,
+                                 "extrapolated": value, "observed_order": order,
+                                 "finest": mine[-1][q] if mine else math.nan})
+            for r in mine:
+                r[f"err_{q}"] = (r[q] - value) / value if value and not math.isnan(value) else math.nan
+
+    os.makedirs(out_dir, exist_ok=True)
+    keys = list(rows[0].keys())
+    for r in rows:
+        for k in r:
+            if k not in keys:
+                keys.append(k)
+    with open(os.path.join(out_dir, "study.csv"), "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=keys)
+        w.writeheader()
+        w.writerows(rows)
+    with open(os.path.join(out_dir, "extrapolated.csv"), "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(extrapolated[0].keys()))
+        w.writeheader()
+        w.writerows(extrapolated)
+    with open(os.path.join(out_dir, "study.md"), "w") as md:
+        cols = ["series", "run", "element", "dofs", "wall_s", "peak_mb"] + quantities
+        md.write("| " + " | ".join(cols) + " |\n|" + "---|" * len(cols) + "\n")
+        for r in rows:
+            md.write("| " + " | ".join(fmt(r.get(c)) for c in cols) + " |\n")
+        md.write("\n| series | quantity | finest | extrapolated | observed order |\n"
+                 "|---|---|---|---|---|\n")
+        for e in extrapolated:
+            md.write(f"| {e['series']} | {e['quantity']} | {fmt(e['finest'])} | "
+                     f"{fmt(e['extrapolated'])} | {fmt(e['observed_order'])} |\n")
+    print(f"study: {len(rows)} runs; {out_dir}/study.csv, extrapolated.csv, study.md")
+
+
+def fmt(x):
+    if isinstance(x, float):
+        return "nan" if math.isnan(x) else f"{x:.6g}"
+    return str(x)
+
+
+if __name__ == "__main__":
+    main()
