@@ -42,9 +42,19 @@ import subprocess
 import sys
 import time
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import plot_common  # noqa: E402
 
-def run_rotorfit(exe, prm, out, sets):
-    """Run rotorfit; return (log text, wall seconds, peak resident MB)."""
+
+def run_rotorfit(exe, prm, out, sets, reuse=False):
+    """Run rotorfit; return (log text, wall seconds, peak resident MB). With
+    REUSE a completed earlier run in OUT (its cost in OUT/cost.json) is read
+    instead."""
+    cost = os.path.join(out, "cost.json")
+    if reuse and os.path.exists(cost) and \
+            summary(out).get("run.status") == "completed":
+        c = json.load(open(cost))
+        return open(os.path.join(out, "stdout.txt")).read(), c["wall_s"], c["peak_mb"]
     os.makedirs(out, exist_ok=True)
     args = [exe, "--output", out]
     for k, v in sets.items():
@@ -60,28 +70,21 @@ def run_rotorfit(exe, prm, out, sets):
     if os.waitstatus_to_exitcode(status) != 0:
         sys.exit(f"study: rotorfit failed in {out} (exit {os.waitstatus_to_exitcode(status)}):\n"
                  + open(os.path.join(out, "stderr.txt")).read())
+    json.dump({"wall_s": wall, "peak_mb": usage.ru_maxrss / 1024.0}, open(cost, "w"))
     return text, wall, usage.ru_maxrss / 1024.0
 
 
 def summary(out):
-    s = {}
-    for line in open(os.path.join(out, "summary.txt")):
-        parts = line.split(None, 1)
-        if len(parts) == 2:
-            s[parts[0]] = parts[1].strip()
-    return s
+    return plot_common.summary_values(os.path.join(out, "summary.txt"))
 
 
 def num(x):
-    try:
-        return float(x)
-    except (TypeError, ValueError):
-        return math.nan
+    return plot_common.num(x, math.nan)
 
 
 def half_open(out, interface):
     """Speed where the contact fraction falls through 0.5 (linear between speeds)."""
-    rows = [r for r in csv.DictReader(open(os.path.join(out, "contact.csv")))
+    rows = [r for r in plot_common.read_csv(os.path.join(out, "contact.csv"))
             if r["interface"] == interface]
     for a, b in zip(rows, rows[1:]):
         fa, fb = num(a["contact_fraction"]), num(b["contact_fraction"])
@@ -93,8 +96,7 @@ def half_open(out, interface):
 
 def whirl_pairs(out, speeds, n_pairs):
     """{'f1b@0': Hz, 'f1f@0': Hz, ...}: the lateral pairs in order of frequency."""
-    path = os.path.join(out, "campbell.csv")
-    rows = list(csv.DictReader(open(path))) if os.path.exists(path) else []
+    rows = plot_common.read_csv(os.path.join(out, "campbell.csv"))
     q = {}
     for rpm in speeds:
         at = [r for r in rows if num(r["speed_rpm"]) == rpm]
@@ -109,8 +111,7 @@ def whirl_pairs(out, speeds, n_pairs):
 def critical_speeds(out, n_pairs):
     """The 1X crossings of the first pairs' lines, backward and forward."""
     q = {}
-    path = os.path.join(out, "critical_speeds.csv")
-    rows = list(csv.DictReader(open(path))) if os.path.exists(path) else []
+    rows = plot_common.read_csv(os.path.join(out, "critical_speeds.csv"))
     for whirl, tag in (("backward", "b"), ("forward", "f")):
         found = sorted(num(r["speed_rpm"]) for r in rows
                        if r["whirl"] == whirl and num(r["order"]) == 1)
@@ -141,20 +142,22 @@ def richardson(h, f):
     return f3 - c * h3 ** p, p
 
 
-def run_one(study, base_dir, exe, out, sets):
+def run_one(study, base_dir, exe, out, sets, reuse):
     case = os.path.normpath(os.path.join(base_dir, study["case"]))
     common = dict(study.get("set", {}))
     common.update(sets)
     static = dict(common)
-    static.update({"Speeds/Mode": "list", "Speeds/List": study["static speeds"],
+    # the static sweep: no eigenproblem, so no unbalance response either
+    static.update({"Unbalances": "", "Probes": "",
+                   "Speeds/Mode": "list", "Speeds/List": study["static speeds"],
                    "Eigenproblem/Compute modes": "false", "Output/Pictures": "false",
                    "Output/Write ParaView files": "false"})
-    log_s, wall_s, mem_s = run_rotorfit(exe, case, os.path.join(out, "static"), static)
+    log_s, wall_s, mem_s = run_rotorfit(exe, case, os.path.join(out, "static"), static, reuse)
     modal = dict(common)
     modal.update({"Speeds/Mode": "list", "Speeds/List": study["modal speeds"],
                   "Output/Pictures": "false", "Output/Write ParaView files": "false",
                   "Eigenproblem/Write mode shapes": "false"})
-    log_m, wall_m, mem_m = run_rotorfit(exe, case, os.path.join(out, "modal"), modal)
+    log_m, wall_m, mem_m = run_rotorfit(exe, case, os.path.join(out, "modal"), modal, reuse)
 
     s = summary(os.path.join(out, "static"))
     interfaces = sorted({k.split(".")[1] for k in s if k.startswith("interface.")})
@@ -184,6 +187,9 @@ def main():
     ap.add_argument("study")
     ap.add_argument("--rotorfit", default=os.environ.get("ROTORFIT", "rotorfit"))
     ap.add_argument("--output", default=None)
+    ap.add_argument("--reuse", action="store_true",
+                    help="read the completed runs already in the output folder instead of "
+                         "running them again (after an interrupted study, or to add runs)")
     a = ap.parse_args()
     study = json.load(open(a.study))
     base_dir = os.path.dirname(os.path.abspath(a.study))
@@ -200,8 +206,9 @@ def main():
             out = os.path.join(out_dir, name, str(i))
             print(f"study: {series['name']} run {i}: {sets}", flush=True)
             row = {"series": series["name"], "run": i}
-            row.update(run_one(study, base_dir, a.rotorfit, out, sets))
+            row.update(run_one(study, base_dir, a.rotorfit, out, sets, a.reuse))
             rows.append(row)
+            write_table(out_dir, rows)  # finished runs survive a stopped study
             print(f"  {row['dofs']} DOFs, {row['wall_s']} s, {row['peak_mb']} MB", flush=True)
 
     quantities = [k for k in rows[0] if k in QUANTITIES_FIXED or "@" in k or k.startswith("crit")]
@@ -220,16 +227,7 @@ def main():
             for r in mine:
                 r[f"err_{q}"] = (r[q] - value) / value if value and not math.isnan(value) else math.nan
 
-    os.makedirs(out_dir, exist_ok=True)
-    keys = list(rows[0].keys())
-    for r in rows:
-        for k in r:
-            if k not in keys:
-                keys.append(k)
-    with open(os.path.join(out_dir, "study.csv"), "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=keys)
-        w.writeheader()
-        w.writerows(rows)
+    write_table(out_dir, rows)
     with open(os.path.join(out_dir, "extrapolated.csv"), "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(extrapolated[0].keys()))
         w.writeheader()
@@ -245,6 +243,19 @@ def main():
             md.write(f"| {e['series']} | {e['quantity']} | {fmt(e['finest'])} | "
                      f"{fmt(e['extrapolated'])} | {fmt(e['observed_order'])} |\n")
     print(f"study: {len(rows)} runs; {out_dir}/study.csv, extrapolated.csv, study.md")
+
+
+def write_table(out_dir, rows):
+    os.makedirs(out_dir, exist_ok=True)
+    keys = []
+    for r in rows:
+        for k in r:
+            if k not in keys:
+                keys.append(k)
+    with open(os.path.join(out_dir, "study.csv"), "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=keys)
+        w.writeheader()
+        w.writerows(rows)
 
 
 def fmt(x):

@@ -602,6 +602,27 @@ def check_refinement(exe, prm, out, cycles, ratio, tol, *sets):
     return 0 if ok else 1
 
 
+def check_locking(exe, prm, out, min_error, *sets):
+    """Linear elements on the free-free cylinder (doc/limits.md): the run
+    warns, and the warning is earned: the bending pair nearest the
+    Timoshenko frequency (tests/timoshenko.py) lies more than MIN_ERROR above
+    it (locking)."""
+    r = run_test.run(exe, prepare(prm, out, ["Geometry/Element order=1"] + list(sets)))
+    text = open(os.path.join(out, "log.txt")).read()
+    warned = "linear elements lock in bending" in text
+    print(f"warning in log.txt: {warned}")
+    t = open(prm).read()
+    E, nu, rho = (value(t, k) for k in ("Young's modulus", "Poisson's ratio", "Density"))
+    f1 = timoshenko.timoshenko(E, nu, rho, geometry(t, "R"), geometry(t, "L"), 1)[0] / (2 * math.pi)
+    got = [float(x["frequency_hz"]) for x in at(rows(out), 0.0) if x["whirl"] in ("forward", "backward", "mixed")]
+    near = min(got, key=lambda f: abs(f - f1))
+    err = (near - f1) / f1
+    good = err > float(min_error)
+    print(f"bending pair {near:.6g} Hz against Timoshenko {f1:.6g} Hz: {err:+.3e} "
+          f"(more than {min_error}: locking) {'ok' if good else 'FAILED'}")
+    return 0 if warned and good else 1
+
+
 def check_pair_shift(exe, prm_a, out_a, prm_b, out_b, rpm, pair, lo, hi):
     run_test.run(exe, prepare(prm_a, out_a))
     run_test.run(exe, prepare(prm_b, out_b))
@@ -759,7 +780,7 @@ if __name__ == "__main__":
               "unbalance": check_unbalance, "stability_onset": check_stability_onset,
               "torsion_crossing": check_torsion_crossing,
               "ring_symmetry": check_ring_symmetry, "study": check_study,
-              "refinement": check_refinement, "mpi": check_mpi, "failure": check_failure}
+              "refinement": check_refinement, "locking": check_locking, "mpi": check_mpi, "failure": check_failure}
     if mode not in checks:
         sys.exit(f"unknown mode {mode}")
     status = checks[mode](*args)

@@ -1,6 +1,10 @@
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/modal/modal_analysis.h>
 
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
 #include <deal.II/base/utilities.h>
 
 namespace rotorfit
@@ -64,9 +68,43 @@ namespace rotorfit
     stations.separate_degenerate_pairs(result.modes);
     for (auto &m : result.modes)
       stations.classify(m);
+    check_doublets();
     result.crossings = tracker.track(result.rpm, result.modes);
     n_critical += result.crossings.size();
     return result;
+  }
+
+  void
+  ModalAnalysis::check_doublets() const
+  {
+    // At rest on isotropic bearings an axisymmetric rotor's lateral modes
+    // are doublets. A lateral mode without its partner below the highest
+    // one reported means the eigensolver missed an eigenvalue (a far shift,
+    // too small a Krylov space): the Campbell diagram would lack a line.
+    if (result.rpm != 0 || !result.isotropic_supports)
+      return;
+    std::vector<double> f;
+    for (const auto &m : result.modes)
+      if (m.whirl != "non-lateral")
+        f.push_back(std::abs(m.lambda.imag()) / (2 * M_PI));
+    std::sort(f.begin(), f.end());
+    std::ostringstream lone;
+    for (unsigned int i = 0; i < f.size();)
+      if (i + 1 < f.size() && f[i + 1] - f[i] <= 1e-2 * f[i])
+        i += 2;
+      else
+        {
+          if (i + 1 < f.size()) // the highest may have its partner beyond the modes asked
+            lone << (lone.str().empty() ? "" : ", ") << f[i];
+          ++i;
+        }
+    if (!lone.str().empty())
+      throw SolverFailure(0,
+                          "at 0 r/min the lateral mode(s) at " + lone.str() +
+                            " Hz came without the second member of their doublet (equal "
+                            "frequency within 1 %): the eigensolver missed eigenvalues. Keep "
+                            "Eigenproblem/Shift below the lowest frequency of interest, or raise "
+                            "Krylov size factor");
   }
 
   void

@@ -181,6 +181,7 @@ namespace rotorfit
     unsigned int retried_speeds = 0; ///< speeds solved a second time (eigen retry)
     unsigned int max_nev        = 0; ///< eigenvalues asked at the most tied state
     double       worst_backward_error = 0;
+    bool         shift_warned         = false;
     bool         announced_loose      = false;
   };
 } // namespace rotorfit

@@ -67,6 +67,10 @@ namespace rotorfit
     finish(Summary &summary) const;
 
   private:
+    /// At rest on isotropic bearings: every lateral mode below the highest
+    /// has its doublet partner, or the run fails (SolverFailure).
+    void
+    check_doublets() const;
     Log                      &log;
     unsigned int              n_stations = 10;
     std::vector<unsigned int> orders{1};
