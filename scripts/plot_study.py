@@ -45,6 +45,9 @@ def main():
     ap.add_argument("--value", action="append", default=[])
     ap.add_argument("--title", default="")
     ap.add_argument("--output", default="")
+    ap.add_argument("--cost", choices=("wall", "cpu"), default="wall",
+                    help="x axis of the right panel: wall time, or CPU time of the process and "
+                         "its threads (steadier on a shared machine)")
     a = ap.parse_args()
     rows = plot_common.read_csv(os.path.join(a.study_dir, "study.csv"))
     ext = plot_common.read_csv(os.path.join(a.study_dir, "extrapolated.csv"))
@@ -77,22 +80,25 @@ def main():
                 f"extrapolated {best['series']}"
         fig, axes = plt.subplots(1, 2, figsize=(10, 4.2), sharey=True)
         print(f"\n{label(q)}: reference {ref:.7g} ({ref_name})")
-        print("| series | DOFs | wall [s] | value | error |\n|---|---|---|---|---|")
+        cost_key = "wall_s" if a.cost == "wall" else "cpu_s"
+        print(f"| series | DOFs | {a.cost} [s] | value | error |\n|---|---|---|---|---|")
         for s in series:
             pts = []
             for r in rows:
                 v = plot_common.num(r.get(q))
                 if r["series"] == s and v is not None:
                     err = abs(v - ref) / abs(ref)
-                    pts.append((plot_common.num(r["dofs"]), plot_common.num(r["wall_s"]), v, err))
-                    print(f"| {s} | {r['dofs']} | {r['wall_s']} | {v:.7g} | {err:.2e} |")
+                    pts.append((plot_common.num(r["dofs"]), plot_common.num(r.get(cost_key)), v, err))
+                    print(f"| {s} | {r['dofs']} | {r.get(cost_key)} | {v:.7g} | {err:.2e} |")
             pts.sort()
             ok = [p for p in pts if p[3] > 0]
             if not ok:
                 continue
             axes[0].loglog([p[0] for p in ok], [p[3] for p in ok], "o-", label=s)
-            axes[1].loglog([p[1] for p in ok], [p[3] for p in ok], "o-", label=s)
-        for ax, xl in zip(axes, ("DOFs", "wall time of the study's runs [s]")):
+            timed = [p for p in ok if p[1] is not None]
+            axes[1].loglog([p[1] for p in timed], [p[3] for p in timed], "o-", label=s)
+        xlabel = "wall time" if a.cost == "wall" else "CPU time"
+        for ax, xl in zip(axes, ("DOFs", f"{xlabel} of the study's runs [s]")):
             ax.set_xlabel(xl)
             ax.grid(True, which="both", alpha=0.3)
             for level, style in ((1e-2, ":"), (1e-3, "--")):

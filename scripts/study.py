@@ -47,14 +47,17 @@ import plot_common  # noqa: E402
 
 
 def run_rotorfit(exe, prm, out, sets, reuse=False):
-    """Run rotorfit; return (log text, wall seconds, peak resident MB). With
+    """Run rotorfit; return (log text, wall seconds, peak resident MB, CPU
+    seconds of the process and its threads). With
     REUSE a completed earlier run in OUT (its cost in OUT/cost.json) is read
     instead."""
     cost = os.path.join(out, "cost.json")
     if reuse and os.path.exists(cost) and \
-            summary(out).get("run.status") == "completed":
+            summary(out).get("run.status") == "completed" and \
+            json.load(open(cost)).get("sets", sets) == sets:
         c = json.load(open(cost))
-        return open(os.path.join(out, "stdout.txt")).read(), c["wall_s"], c["peak_mb"]
+        return (open(os.path.join(out, "stdout.txt")).read(), c["wall_s"], c["peak_mb"],
+                c.get("cpu_s", math.nan))
     os.makedirs(out, exist_ok=True)
     args = [exe, "--output", out]
     for k, v in sets.items():
@@ -70,8 +73,10 @@ def run_rotorfit(exe, prm, out, sets, reuse=False):
     if os.waitstatus_to_exitcode(status) != 0:
         sys.exit(f"study: rotorfit failed in {out} (exit {os.waitstatus_to_exitcode(status)}):\n"
                  + open(os.path.join(out, "stderr.txt")).read())
-    json.dump({"wall_s": wall, "peak_mb": usage.ru_maxrss / 1024.0}, open(cost, "w"))
-    return text, wall, usage.ru_maxrss / 1024.0
+    cpu = usage.ru_utime + usage.ru_stime
+    json.dump({"wall_s": wall, "cpu_s": cpu, "peak_mb": usage.ru_maxrss / 1024.0, "sets": sets},
+              open(cost, "w"))
+    return text, wall, usage.ru_maxrss / 1024.0, cpu
 
 
 def summary(out):
@@ -152,21 +157,24 @@ def run_one(study, base_dir, exe, out, sets, reuse):
                    "Speeds/Mode": "list", "Speeds/List": study["static speeds"],
                    "Eigenproblem/Compute modes": "false", "Output/Pictures": "false",
                    "Output/Write ParaView files": "false"})
-    log_s, wall_s, mem_s = run_rotorfit(exe, case, os.path.join(out, "static"), static, reuse)
+    log_s, wall_s, mem_s, cpu_s = run_rotorfit(exe, case, os.path.join(out, "static"), static, reuse)
     modal = dict(common)
     modal.update({"Speeds/Mode": "list", "Speeds/List": study["modal speeds"],
                   "Output/Pictures": "false", "Output/Write ParaView files": "false",
                   "Eigenproblem/Write mode shapes": "false"})
-    log_m, wall_m, mem_m = run_rotorfit(exe, case, os.path.join(out, "modal"), modal, reuse)
+    log_m, wall_m, mem_m, cpu_m = run_rotorfit(exe, case, os.path.join(out, "modal"), modal, reuse)
 
     s = summary(os.path.join(out, "static"))
     interfaces = sorted({k.split(".")[1] for k in s if k.startswith("interface.")})
     f = interfaces[0] if interfaces else ""
-    m = re.search(r"Mesh: (\d+) (\w+), (\d+) DOFs \((\w+)", log_s)
-    row = {"dofs": int(m.group(3)) if m else 0, "cells": int(m.group(1)) if m else 0,
-           "element": (m.group(2)[:3] + " " + m.group(4)) if m else "",
+    # the last mesh of the log: refinement cycles log theirs before it
+    found = re.findall(r"Mesh: (\d+) (\w+), (\d+) DOFs \((\w+)", log_s)
+    m = found[-1] if found else None
+    row = {"dofs": int(m[2]) if m else 0, "cells": int(m[0]) if m else 0,
+           "element": (m[1][:3] + " " + m[3]) if m else "",
            "wall_s": round(wall_s + wall_m, 2), "static_wall_s": round(wall_s, 2),
-           "modal_wall_s": round(wall_m, 2), "peak_mb": round(max(mem_s, mem_m), 1),
+           "modal_wall_s": round(wall_m, 2), "cpu_s": round(cpu_s + cpu_m, 2),
+           "peak_mb": round(max(mem_s, mem_m), 1),
            "pairs": int(num(s.get(f"interface.{f}.pairs", "nan")) or 0),
            "p0_mpa": num(s.get(f"interface.{f}.mean_pressure_first_speed_Pa")) / 1e6,
            "first_open": num(s.get(f"interface.{f}.first_opening_rpm")),

@@ -110,20 +110,7 @@ namespace rotorfit
     log_speed(solution, stats, worst);
     if (solution.elastic.size() > n_wanted)
       solution.elastic.resize(n_wanted);
-    // shift-invert orders the spectrum by |lambda - sigma|: far above the
-    // lowest modes the wanted eigenvalues crowd together and ARPACK can
-    // miss a member of a doublet (doc/limits.md)
-    const double sigma_hz = eigensolver.shift() / (2 * M_PI);
-    if (!shift_warned && !solution.elastic.empty() &&
-        sigma_hz > std::abs(solution.elastic.front().lambda.imag()) / (2 * M_PI))
-      {
-        shift_warned = true;
-        log << "Warning: Eigenproblem/Shift = " << sigma_hz
-            << " Hz lies above the lowest elastic frequency found at " << state.rpm
-            << " r/min (" << std::abs(solution.elastic.front().lambda.imag()) / (2 * M_PI)
-            << " Hz): the shift-inverted eigenvalues crowd together and modes can be missed; "
-               "keep the Shift below the lowest frequency of interest.\n";
-      }
+    warn_far_shift(solution, state.rpm);
     announce_loose_bodies(state, loose_body);
     worst_backward_error = std::max(worst_backward_error, worst);
     ++speeds_done;
@@ -292,5 +279,24 @@ namespace rotorfit
     log << "Eigenproblem: " << speeds_done << " speeds, "
         << eigensolver.linear_solver().n_factorizations() << " factorisations of Q(sigma), "
         << "worst backward error " << worst_backward_error << '\n';
+  }
+
+  void
+  PrestressedEigenproblem::warn_far_shift(const EigenSolution &solution, const double rpm)
+  {
+    // shift-invert orders the spectrum by |lambda - sigma|: far above the
+    // lowest modes the wanted eigenvalues crowd together and ARPACK can
+    // miss a member of a doublet (doc/limits.md)
+    const double sigma_hz = eigensolver.shift() / (2 * M_PI);
+    if (!shift_warned && !solution.elastic.empty() &&
+        sigma_hz > std::abs(solution.elastic.front().lambda.imag()) / (2 * M_PI))
+      {
+        shift_warned = true;
+        log << "Warning: Eigenproblem/Shift = " << sigma_hz
+            << " Hz lies above the lowest elastic frequency found at " << rpm
+            << " r/min (" << std::abs(solution.elastic.front().lambda.imag()) / (2 * M_PI)
+            << " Hz): the shift-inverted eigenvalues crowd together and modes can be missed; "
+               "keep the Shift below the lowest frequency of interest.\n";
+      }
   }
 } // namespace rotorfit

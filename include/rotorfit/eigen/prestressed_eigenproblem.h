@@ -121,6 +121,9 @@ namespace rotorfit
     finish(Summary &summary) const;
 
   private:
+    /// Once per run: the Shift above the lowest elastic frequency found.
+    void
+    warn_far_shift(const EigenSolution &solution, const double rpm);
     void
     assemble_tangent(const StaticState &state, const std::vector<bool> &tied);
     void

@@ -4,10 +4,12 @@
 #include <deal.II/base/types.h>
 
 #include <deal.II/grid/tria.h>
+#include <deal.II/grid/tria_description.h>
 
 #include <deal.II/lac/vector.h>
 
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -160,7 +162,33 @@ namespace rotorfit
     };
 
     void
+    read_sections(const unsigned int b, const std::string &text);
+    void
     check_sections(const unsigned int b) const;
+    void
+    set_core_radii();
+    void
+    parse_surfaces();
+    Selector
+    parse_selector(const std::string &selector, const std::string &surface) const;
+    void
+    merge_step_radii(std::vector<Chain> &chains) const;
+    /// The hexahedra of body @p b on the axial nodes @p z.
+    void
+    add_body_cells(const unsigned int                b,
+                   const std::vector<double>        &z,
+                   const std::vector<Chain>         &chains,
+                   std::vector<dealii::Point<3>>    &vertices,
+                   std::vector<dealii::CellData<3>> &cells) const;
+    /// Which boundary of body @p b a face is on (none: a step); @p zm its
+    /// mean axial position.
+    std::optional<Side>
+    face_side(const dealii::Triangulation<3>::face_iterator &face,
+              const unsigned int                             b,
+              double                                        &zm) const;
+    void
+    name_boundaries(dealii::Triangulation<3>                                   &tria,
+                    std::map<dealii::types::boundary_id, std::set<std::string>> &names) const;
     void
     find_fits(std::vector<std::pair<double, double>> &zones) const;
     std::vector<double>
