@@ -106,7 +106,8 @@ namespace rotorfit
           << " r/min is not rotationally symmetric (asymmetry" << asymmetric << " > "
           << asymmetry_warning
           << "): the stationary-frame eigenproblem assumes a symmetric rotor; "
-             "treat this speed's modes with care.\n";
+             "treat this speed's modes with care, or mesh the bodies with Geometry/Mesher = "
+             "sections, whose closed sets stay symmetric.\n";
 
     state.fit_state = "closed";
     for (const auto &row : state.interfaces)
