@@ -82,7 +82,8 @@ namespace rotorfit
   MeshRefinement::reset(const Discretization &model)
   {
     eta2.reinit(model.mesh().triangulation().n_active_cells());
-    n_fields = 0;
+    n_fields  = 0;
+    n_skipped = 0;
   }
 
   void
@@ -99,7 +100,12 @@ namespace rotorfit
     for (const float e : eta)
       total += double(e) * e;
     if (!(total > 0) || !std::isfinite(total))
-      return; // a field without jumps (rigid motion) tells nothing
+      {
+        // a field without jumps (rigid motion) tells nothing; a NaN one is
+        // a failed solve: both are left out and counted in the log line
+        ++n_skipped;
+        return;
+      }
     for (unsigned int k = 0; k < eta.size(); ++k)
       eta2[k] += double(eta[k]) * eta[k] / total;
     ++n_fields;
@@ -140,7 +146,10 @@ namespace rotorfit
     const auto &mesh = model.mesh();
     const auto  next = mesh.sections().refined(mesh.triangulation(), eta, fraction);
     std::ostringstream m;
-    m << "Mesh refinement: " << n_fields << " indicator field(s); split " << next.layers_split
+    m << "Mesh refinement: " << n_fields << " indicator field(s)";
+    if (n_skipped > 0)
+      m << " (" << n_skipped << " left out: no jumps, or not finite)";
+    m << "; split " << next.layers_split
       << " axial layer(s) and " << next.intervals_split << " radial interval(s)\n";
     log << m.str();
     return next;

@@ -98,6 +98,6 @@ namespace rotorfit
     bool                  use_static = true, use_modal = true;
     std::vector<double>   speeds_rpm;
     dealii::Vector<float> eta2; ///< sum of the normalised squared indicators
-    unsigned int          n_fields = 0;
+    unsigned int          n_fields = 0, n_skipped = 0;
   };
 } // namespace rotorfit
