@@ -224,12 +224,12 @@ def softening(exe, prm_off, out_off, prm_on, out_on, expected):
     return 0 if ok else 1
 
 
-def same_columns(exe, prm_a, out_a, prm_b, out_b, columns, rtol, atol):
+def same_columns(exe, prm_a, out_a, prm_b, out_b, columns, rtol, atol, sets_a=(), sets_b=()):
     """Run both cases; the COLUMNS (comma-separated) of their contact.csv must
     agree within RTOL/ATOL row by row (numdiff)."""
     import csv
-    run(exe, prm_a, outdir=out_a)
-    run(exe, prm_b, outdir=out_b)
+    run(exe, case(prm_a, out_a, sets_a) if sets_a else prm_a, outdir=None if sets_a else out_a)
+    run(exe, case(prm_b, out_b, sets_b) if sets_b else prm_b, outdir=None if sets_b else out_b)
     names = columns.split(",")
     files = []
     for out in (out_a, out_b):
@@ -241,6 +241,64 @@ def same_columns(exe, prm_a, out_a, prm_b, out_b, columns, rtol, atol):
         files.append(path)
         print(out, "rows:", len(rows))
     return numdiff(files[0], files[1], rtol, atol)
+
+
+def path_steps(exe, prm, outdir, interface, *sets):
+    """The exact contact path (Contact/Speed path = exact) with speed steps
+    of 1,000, 500 and 100 r/min over 0..30,000: first opening, half-open and
+    full opening identical to 1 r/min. Then the sampled path (the active set
+    settled anew at each speed, no events) 1 r/min below and above each of
+    them: fit closed / partly open, contact fraction >= 0.5 / < 0.5, pairs
+    closed / none. SETS: --set arguments of every run."""
+    keys = ("first_opening_rpm", "half_open_rpm", "loss_of_fit_rpm")
+    found = {}
+    for step in (1000, 500, 100):
+        out = os.path.join(outdir, f"step_{step}")
+        run(exe, case(prm, out, [*sets, "Speeds/Mode=range",
+                                 "Speeds/Start=0", "Speeds/End=30000", f"Speeds/Step={step}",
+                                 "Contact/Speed path=exact"]))
+        found[step] = [summary_value(out, f"interface.{interface}.{k}") for k in keys]
+        print(f"step {step} r/min: " + ", ".join(f"{k} {v:.3f}" for k, v in zip(keys, found[step])))
+    bad = 0
+    for step in (500, 100):
+        for k, a, b in zip(keys, found[1000], found[step]):
+            if not abs(a - b) <= 1.0:
+                print(f"{k}: {b} with step {step} vs {a} with step 1000: FAILED")
+                bad += 1
+    first, half, full = found[1000]
+    speeds = sorted({0.0, first - 1, first + 1, half - 1, half + 1, full - 1, full + 1})
+    out = os.path.join(outdir, "sampled")
+    run(exe, case(prm, out, [*sets, "Speeds/Mode=list",
+                             "Speeds/List=" + ", ".join(f"{v:.3f}" for v in speeds),
+                             "Contact/Speed path=sampled"]))
+    import csv
+    rows = {round(float(r["speed_rpm"]), 3): r
+            for r in csv.DictReader(open(os.path.join(out, "contact.csv")))
+            if r["interface"] == interface}
+    def at(v):
+        return rows[round(v, 3)]
+    checks = [
+        ("first opening", first, lambda r: int(r["closed_pairs"]) == int(r["total_pairs"])),
+        ("half-open", half, lambda r: float(r["contact_fraction"]) >= 0.5),
+        ("full opening", full, lambda r: int(r["closed_pairs"]) > 0),
+    ]
+    for name, v, before in checks:
+        ok = before(at(v - 1)) and not before(at(v + 1))
+        print(f"{name} {v:.3f} r/min: sampled at -1 r/min closed {at(v - 1)['closed_pairs']}, "
+              f"fraction {at(v - 1)['contact_fraction']}; at +1 r/min closed "
+              f"{at(v + 1)['closed_pairs']}, fraction {at(v + 1)['contact_fraction']}: "
+              + ("ok" if ok else "FAILED"))
+        bad += not ok
+    return 1 if bad else 0
+
+
+def paths(exe, prm, outdir, columns, rtol, atol, *sets):
+    """PRM (with --set SETS) on the exact path and on the sampled path with a
+    factorisation per active set: COLUMNS of contact.csv as in same_columns."""
+    exact = [*sets, "Contact/Speed path=exact"]
+    sampled = [*sets, "Contact/Speed path=sampled", "Contact/Low-rank update limit=0"]
+    return same_columns(exe, prm, os.path.join(outdir, "exact"), prm,
+                        os.path.join(outdir, "sampled"), columns, rtol, atol, exact, sampled)
 
 
 def valid(exe, prm):
@@ -427,6 +485,10 @@ if __name__ == "__main__":
         sys.exit(falls(*args))
     elif mode == "softening":
         sys.exit(softening(*args))
+    elif mode == "paths":
+        sys.exit(paths(*args))
+    elif mode == "path_steps":
+        sys.exit(path_steps(*args))
     elif mode == "same_columns":
         sys.exit(same_columns(*args))
     elif mode == "ratio":

@@ -1,7 +1,11 @@
 #include <rotorfit/contact/contact_solver.h>
 
+#include <rotorfit/statics/speed_schedule.h>
+
 #include <algorithm>
+#include <cmath>
 #include <set>
+#include <sstream>
 #include <string>
 #include <tuple>
 
@@ -23,47 +27,41 @@ namespace rotorfit
     const unsigned int columns_before        = influence_columns;
     uzawa_count                              = 0;
 
-    std::vector<bool>           active = current.active;
-    std::vector<unsigned int>   flips(n, 0);
-    std::set<std::vector<bool>> seen;
-    while (true)
+    const bool          on_path = exact_path() && path_started;
+    std::vector<double> roots;
+    if (exact_path())
       {
-        const bool reusable = current.valid && current.active == active &&
-                              (current.affine || current.w_fixed == w);
-        if (!reusable)
-          compute_decomposition(active, w);
-        ++state.active_set_iterations;
-        evaluate(w, state);
-        const std::vector<bool> next = next_active_set(active, state);
-        if (next == active)
-          break;
-        seen.insert(active);
-        std::vector<bool> proposal;
-        if (state.active_set_iterations >= max_active_set_iterations ||
-            !guard_cycling(active, next, state, flips, seen, proposal))
-          {
-            // the cap, or every way on leads back to a visited set
-            state.flipped_back =
-              std::count_if(flips.begin(), flips.end(), [](unsigned int f) { return f >= 2; });
-            state.converged = false;
-            break;
-          }
-        for (unsigned int i = 0; i < n; ++i)
-          if (proposal[i] != active[i])
-            ++flips[i];
-        active = proposal;
+        if (!path_started)
+          start_path();
+        else
+          advance_path(w, state);
+        for (unsigned int i = 0; on_path && i < n; ++i)
+          roots.push_back(event_w(i, path_w));
       }
-    if (!state.converged)
-      state.reason = "active set not settled (" + std::to_string(state.active_set_iterations) +
-                     " iterations; " + std::to_string(state.flipped_back) + " pairs flipped back)";
+    const std::vector<bool> before = current.active;
+    settle(w, state);
+    if (exact_path())
+      {
+        // changes at w itself: at their roots under the previous law (a
+        // pair pulled along by another one: at w)
+        for (unsigned int i = 0; on_path && i < n; ++i)
+          if (before[i] != current.active[i])
+            state.events.push_back({std::min(std::max(roots[i], path_w), w), i, before[i]});
+        path_w = w;
+        ensure_displacements();
+        std::stable_sort(state.events.begin(), state.events.end(),
+                         [](const Event &a, const Event &b) { return a.w < b.w; });
+      }
     if (!current.uzawa_converged)
       {
         state.converged = false;
         state.reason += std::string(state.reason.empty() ? "" : "; ") +
-                        "Uzawa cap reached (Contact/Maximum Uzawa iterations = " +
-                        std::to_string(max_uzawa_iterations) + ")";
+                        (exact_path() ? "pair-space residual above 1e-8" :
+                                        "Uzawa cap reached (Contact/Maximum Uzawa iterations = " +
+                                          std::to_string(max_uzawa_iterations) + ")");
       }
     state.active = current.active;
+    evaluate(w, state);
     for (unsigned int i = 0; i < n; ++i)
       if (!state.active[i])
         state.force[i] = state.pressure[i] = 0;
@@ -72,6 +70,57 @@ namespace rotorfit
     state.low_rank_updates  = low_rank_updates - updates_before;
     state.influence_columns = influence_columns - columns_before;
     return state;
+  }
+
+  void
+  ContactSolver::settle(const double w, State &state)
+  {
+    const unsigned int          n      = pairs->pairs().size();
+    std::vector<bool>           active = current.active;
+    std::vector<unsigned int>   flips(n, 0);
+    std::set<std::vector<bool>> seen;
+    unsigned int                iterations = 0;
+    bool                        settled    = true;
+    while (true)
+      {
+        const bool reusable = current.valid && current.active == active &&
+                              (current.affine || current.w_fixed == w);
+        if (!reusable)
+          compute_decomposition(active, w);
+        ++iterations;
+        ++state.active_set_iterations;
+        evaluate(w, state);
+        const std::vector<bool> next = next_active_set(active, state);
+        if (next == active)
+          break;
+        seen.insert(active);
+        std::vector<bool> proposal;
+        if (iterations >= max_active_set_iterations ||
+            !guard_cycling(active, next, state, flips, seen, proposal))
+          {
+            // the cap, or every way on leads back to a visited set
+            state.flipped_back =
+              std::count_if(flips.begin(), flips.end(), [](unsigned int f) { return f >= 2; });
+            settled = false;
+            break;
+          }
+        for (unsigned int i = 0; i < n; ++i)
+          if (proposal[i] != active[i])
+            ++flips[i];
+        active = proposal;
+      }
+    if (!settled && state.reason.find("active set not settled") == std::string::npos)
+      {
+        std::ostringstream m;
+        m << "active set not settled (" << iterations << " iterations; " << state.flipped_back
+          << " pairs flipped back"
+          << (exact_path() ? ", at " + std::to_string(SpeedSchedule::rad_per_s_to_rpm(std::sqrt(w))) +
+                               " r/min on the path" :
+                             std::string())
+          << ")";
+        state.reason += (state.reason.empty() ? "" : "; ") + m.str();
+      }
+    state.converged &= settled;
   }
 
   void

@@ -95,6 +95,18 @@ namespace rotorfit
                       "are at most this fraction of all pairs; above it the "
                       "matrix is factorised again [-]. 0: factorise every "
                       "active set.");
+    prm.declare_entry("Speed path",
+                      "exact",
+                      Patterns::Selection("exact|sampled"),
+                      "'exact': the contact state follows the speed from event "
+                      "to event (each pair's opening or closing speed solved from "
+                      "its active set's affine law in Omega^2), so opening speeds "
+                      "do not depend on the speed step; every influence column "
+                      "is computed once and the factorisation is kept for the "
+                      "run (memory: 2 n^2 doubles for n pairs). 'sampled': the "
+                      "active set is settled at each requested speed only. With "
+                      "Physics/Spin softening the law is not affine and the "
+                      "path is sampled.");
     prm.declare_entry("Constraint error limit",
                       "0.01",
                       patterns::Positive(),
@@ -119,6 +131,7 @@ namespace rotorfit
     uzawa_tolerance      = prm.get_double("Uzawa tolerance");
     update_limit         = prm.get_double("Low-rank update limit");
     penalty_error_limit  = prm.get_double("Constraint error limit");
+    requested_path       = prm.get("Speed path") == "exact" ? Path::exact : Path::sampled;
     prm.leave_subsection();
     solver.parse_parameters(prm);
   }
@@ -197,6 +210,11 @@ namespace rotorfit
     low_rank_updates  = 0;
     influence_columns = 0;
     times             = Timing();
+    path_started      = false;
+    path_w            = 0;
+    u_serial          = 0;
+    worst_pair_residual = 0;
+    path_active.clear();
   }
 
   std::vector<double>
@@ -315,6 +333,8 @@ namespace rotorfit
   void
   ContactSolver::release_factorization()
   {
+    if (exact_path() && path_started)
+      return; // the path makes its displacements on this factorisation
     solver.release();
     clear_update();
     base_valid = false;
@@ -461,6 +481,11 @@ namespace rotorfit
   ContactSolver::compute_decomposition(const std::vector<bool> &active,
                                        const double             w)
   {
+    if (exact_path())
+      {
+        pair_space_decomposition(active);
+        return;
+      }
     const auto &list   = pairs->pairs();
     const bool  affine = (M_perp == nullptr);
     // a low-rank update of the base factorisation where it is cheaper than

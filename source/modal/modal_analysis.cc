@@ -54,20 +54,27 @@ namespace rotorfit
     stations.build(model, n_stations);
   }
 
+  ModalResult
+  ModalAnalysis::classify(EigenSolution &&solution) const
+  {
+    ModalResult r;
+    r.rpm   = solution.rpm;
+    r.index = solution.index;
+    r.rigid = std::move(solution.rigid);
+    r.tied  = std::move(solution.tied);
+    r.isotropic_supports = solution.isotropic_supports;
+    for (auto &pair : solution.elastic)
+      r.modes.emplace_back(std::move(pair));
+    stations.separate_degenerate_pairs(r.modes);
+    for (auto &m : r.modes)
+      stations.classify(m);
+    return r;
+  }
+
   const ModalResult &
   ModalAnalysis::analyse(EigenSolution &&solution)
   {
-    result       = ModalResult();
-    result.rpm   = solution.rpm;
-    result.index = solution.index;
-    result.rigid = std::move(solution.rigid);
-    result.tied  = std::move(solution.tied);
-    result.isotropic_supports = solution.isotropic_supports;
-    for (auto &pair : solution.elastic)
-      result.modes.emplace_back(std::move(pair));
-    stations.separate_degenerate_pairs(result.modes);
-    for (auto &m : result.modes)
-      stations.classify(m);
+    result = classify(std::move(solution));
     check_doublets();
     result.crossings = tracker.track(result.rpm, result.modes);
     n_critical += result.crossings.size();

@@ -55,7 +55,8 @@ namespace rotorfit
   {}
 
   void
-  ParaViewOutput::write_static(const StaticState &state)
+  ParaViewOutput::write_static(const StaticState &state, const std::string &series,
+                               const unsigned int index)
   {
     PETScWrappers::MPI::Vector u;
     state.displacement(u);
@@ -97,11 +98,12 @@ namespace rotorfit
     data_out.add_data_vector(body, "body", DataOut<3>::type_cell_data);
     data_out.build_patches(model.mesh().mapping(), model.element_order());
 
-    write(data_out, "solution", state.index, state.rpm, static_records);
+    write(data_out, series, index, state.rpm, records[series]);
   }
 
   void
-  ParaViewOutput::write_modes(const ModalResult &result)
+  ParaViewOutput::write_modes(const ModalResult &result, const std::string &series,
+                              const unsigned int index)
   {
     const auto &dof_handler = model.dofs();
     const auto &modes       = result.modes;
@@ -129,12 +131,14 @@ namespace rotorfit
     data_out.add_data_vector(tie,
                              std::vector<std::string>(3, "contact_tied"),
                              DataOut<3>::type_dof_data, vector3);
-    data_out.build_patches(model.mesh().mapping(), model.element_order());
-    write(data_out, "modes", result.index, result.rpm, mode_records);
+    // vertices only: a mode shape reads as well on them, at a third of the
+    // file (twelve complex modes are 75 values per point)
+    data_out.build_patches(model.mesh().mapping(), 1);
+    write(data_out, series, index, result.rpm, records[series]);
   }
 
   void
-  ParaViewOutput::write(const DataOut<3>                             &data_out,
+  ParaViewOutput::write(DataOut<3>                                   &data_out,
                         const std::string                            &series,
                         const unsigned int                            index,
                         const double                                  rpm,
@@ -143,6 +147,9 @@ namespace rotorfit
     // one .pvtu per speed (pieces per rank) and the .pvd index of the
     // series, rewritten each time so that an interrupted run keeps it
     const MPI_Comm    comm = model.mpi_communicator();
+    DataOutBase::VtkFlags flags;
+    flags.compression_level = DataOutBase::VtkFlags::best_compression;
+    data_out.set_flags(flags);
     const std::string name =
       data_out.write_vtu_with_pvtu_record(directory + "/", series, index, comm, 4, 0);
     records.emplace_back(rpm, name);

@@ -36,6 +36,15 @@ namespace rotorfit
                       "One .pvtu per speed (displacement, von Mises stress, "
                       "body, contact status, pressure and gap) and a .pvd "
                       "index.");
+    prm.declare_entry("ParaView speeds",
+                      "ends, critical",
+                      Patterns::Anything(),
+                      "Where the ParaView files (solution, and with Eigenproblem/Write "
+                      "mode shapes the modes) are written: a comma-separated list of "
+                      "'all' (every speed), 'ends' (the first and the last speed), "
+                      "'critical' (at each critical speed: one more eigen solve there, "
+                      "series critical_solution / critical_modes) and speeds of the run "
+                      "[r/min]. 'none' writes none.");
     prm.declare_entry("Pictures",
                       "true",
                       Patterns::Bool(),
@@ -53,8 +62,9 @@ namespace rotorfit
     prm.declare_entry("Write mode shapes",
                       "true",
                       Patterns::Bool(),
-                      "One .pvtu per speed with every elastic mode (real and "
-                      "imaginary parts) and the tied pairs, indexed by modes.pvd.");
+                      "One .pvtu per speed of Output/ParaView speeds with every "
+                      "elastic mode (real and imaginary parts, on the cells' "
+                      "vertices) and the tied pairs, indexed by modes.pvd.");
     prm.declare_entry("Campbell plot",
                       "true",
                       Patterns::Bool(),
@@ -72,6 +82,30 @@ namespace rotorfit
       prm.set("Directory", directory_override);
     output_dir     = prm.get("Directory");
     write_paraview = prm.get_bool("Write ParaView files");
+    paraview_speeds.clear();
+    at_all = at_ends = at_critical = false;
+    for (const auto &token : Utilities::split_string_list(prm.get("ParaView speeds"), ','))
+      if (token == "all")
+        at_all = true;
+      else if (token == "ends")
+        at_ends = true;
+      else if (token == "critical")
+        at_critical = true;
+      else if (token == "none")
+        continue;
+      else
+        try
+          {
+            std::size_t end = 0;
+            paraview_speeds.push_back(std::stod(token, &end));
+            if (end != token.size() || !(paraview_speeds.back() >= 0))
+              throw std::invalid_argument(token);
+          }
+        catch (const std::exception &)
+          {
+            throw InputError("Output/ParaView speeds: '" + token +
+                             "' is neither all, ends, critical, none nor a speed in r/min.");
+          }
     pictures       = prm.get_bool("Pictures");
     campbell_fmax  = prm.get_double("Campbell frequency range");
     prm.leave_subsection();
@@ -81,6 +115,48 @@ namespace rotorfit
     prm.leave_subsection();
     if (output_dir.empty())
       throw InputError("Output/Directory is empty; give a directory name.");
+  }
+
+  void
+  Results::check_speeds(const std::vector<double> &run_speeds)
+  {
+    // a listed speed must be one of the run's: a file "near" 12,000 r/min
+    // would silently show another speed
+    for (const double v : paraview_speeds)
+      {
+        double nearest = run_speeds.front();
+        for (const double r : run_speeds)
+          if (std::abs(r - v) < std::abs(nearest - v))
+            nearest = r;
+        if (!(std::abs(nearest - v) <= 1e-9 * std::max(1., v)))
+          throw InputError("Output/ParaView speeds: " + format_number(v) +
+                           " r/min is not a speed of the run (the nearest is " +
+                           format_number(nearest) + " r/min).");
+      }
+    last_index = run_speeds.size() - 1;
+  }
+
+  bool
+  Results::paraview_at(const unsigned int index, const double rpm) const
+  {
+    if (at_all || (at_ends && (index == 0 || index == last_index)))
+      return true;
+    for (const double v : paraview_speeds)
+      if (std::abs(v - rpm) <= 1e-9 * std::max(1., v))
+        return true;
+    return false;
+  }
+
+  void
+  Results::add_critical(const StaticState &state, const ModalResult &modes)
+  {
+    if (!paraview)
+      return;
+    if (write_paraview)
+      paraview->write_static(state, "critical_solution", n_critical_files);
+    if (write_shapes)
+      paraview->write_modes(modes, "critical_modes", n_critical_files);
+    ++n_critical_files;
   }
 
   void
@@ -109,7 +185,7 @@ namespace rotorfit
           run_control::lock_output_directory(output_dir);
           // results of an earlier run into this folder must not be
           // mistaken for this run's
-          for (const char *f : {"summary.txt", "contact.csv", "pair_openings.csv",
+          for (const char *f : {"summary.txt", "contact.csv", "pair_openings.csv", "contact_events.csv",
                                 "campbell.csv", "critical_speeds.csv", "rigid_modes.csv",
                                 "campbell.png", "plot.log", "response.csv",
                                 "response_peaks.csv", "stability_onsets.csv", "contact.png",
@@ -133,7 +209,8 @@ namespace rotorfit
   }
 
   void
-  Results::open(const Discretization &model, const bool with_modes, const bool response)
+  Results::open(const Discretization &model, const bool with_modes, const bool response,
+                const bool exact_path)
   {
     with_response = response;
     with_contact  = !model.interfaces().list().empty();
@@ -143,6 +220,8 @@ namespace rotorfit
       return;
     contact.open(output_dir);
     openings.open(output_dir);
+    if (exact_path)
+      events.open(output_dir);
     if (with_modes)
       {
         campbell.open(output_dir);
@@ -166,8 +245,9 @@ namespace rotorfit
   {
     contact.add(state);
     openings.add(state);
-    if (write_paraview && paraview)
-      paraview->write_static(state);
+    events.add(state);
+    if (write_paraview && paraview && paraview_at(state.index, state.rpm))
+      paraview->write_static(state, "solution", state.index);
   }
 
   void
@@ -176,8 +256,8 @@ namespace rotorfit
     rigid.add(modes);
     campbell.add(state, modes);
     critical.add(modes);
-    if (write_shapes && paraview)
-      paraview->write_modes(modes);
+    if (write_shapes && paraview && paraview_at(modes.index, modes.rpm))
+      paraview->write_modes(modes, "modes", modes.index);
   }
 
   void

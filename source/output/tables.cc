@@ -59,6 +59,25 @@ namespace rotorfit
   }
 
   void
+  ContactEventTable::open(const std::string &directory)
+  {
+    create(directory + "/contact_events.csv",
+           "speed_rpm,interface,x_m,y_m,z_m,event,closed_pairs,contact_fraction", 10);
+  }
+
+  void
+  ContactEventTable::add(const StaticState &state)
+  {
+    if (!file.is_open())
+      return;
+    for (const auto &e : state.events)
+      file << e.rpm << ',' << e.interface << ',' << e.position[0] << ',' << e.position[1] << ','
+           << e.position[2] << ',' << (e.opening ? "opening" : "closing") << ','
+           << e.closed_pairs << ',' << e.contact_fraction << '\n';
+    file << std::flush;
+  }
+
+  void
   CampbellTable::open(const std::string &directory)
   {
     create(directory + "/campbell.csv", "speed_rpm,mode,tracked_id,whirl,frequency_hz,damping_ratio,"

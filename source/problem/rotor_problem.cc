@@ -56,6 +56,8 @@ namespace rotorfit
               TimerOutput::Scope t(timer, "modal analysis + output");
               results.add(state, modal.analyse(std::move(solution)));
             }
+            if (results.shapes_at_critical_speeds())
+              write_critical_shapes(state);
             ++modal_steps;
             {
               // a damping ratio that changed sign: root solve in the speed
@@ -76,12 +78,34 @@ namespace rotorfit
   }
 
   void
+  RotorProblem::write_critical_shapes(const StaticState &state)
+  {
+    // the crossings since the previous speed, solved at their own speed on
+    // this speed's contact law (as the stability onsets are)
+    TimerOutput::Scope t(timer, "mode shapes at critical speeds");
+    for (const auto &c : modal.last_result().crossings)
+      {
+        StaticState trial = state;
+        trial.rpm         = c.rpm;
+        try
+          {
+            results.add_critical(trial, modal.classify(eigen.solve(trial)));
+          }
+        catch (const SolverFailure &e)
+          {
+            log << "Warning: no mode shapes at the critical speed " << format_number(c.rpm)
+                << " r/min: the eigensolver failed there (" << e.what() << ").\n";
+          }
+      }
+  }
+
+  void
   RotorProblem::assemble_speed_independent_matrices()
   {
     statics.assemble(std::pow(SpeedSchedule::rpm_to_rad_per_s(speeds.speeds_rpm().back()), 2));
     assembled = true; // from here on summary.txt has the static entries
     eigen.assemble_speed_independent_matrices();
-    results.open(model, eigen.enabled(), response.enabled());
+    results.open(model, eigen.enabled(), response.enabled(), statics.exact_path());
     sweep_start = std::chrono::steady_clock::now();
   }
 

@@ -68,6 +68,7 @@ namespace rotorfit
     modal.parse_parameters(prm);
     response.parse_parameters(prm, eigen.enabled());
     results.parse_parameters(prm, output_override);
+    results.check_speeds(speeds.speeds_rpm());
     refinement.parse_parameters(prm, model.mesh().hexahedral());
     prm.enter_subsection("Contact");
     stop_on_loss_of_fit = prm.get("On loss of fit") == "stop";

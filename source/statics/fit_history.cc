@@ -74,9 +74,12 @@ namespace rotorfit
         worst_error.assign(n_if, 0.);
         worst_asymmetry.assign(n_if, 0.);
         fully_open.assign(n_if, false);
+        half_open.assign(n_if, nan);
+        last_fraction.assign(n_if, nan);
       }
     state.interfaces.resize(n_if);
     state.openings.clear();
+    state.events.clear();
     bool within_limit = true;
     for (unsigned int f = 0; f < n_if; ++f)
       within_limit &= evaluate_interface(f, state, law, error_limit);
@@ -167,12 +170,20 @@ namespace rotorfit
         max_p0[f]  = row.max_pressure;
       }
 
-    if (speeds > 0)
-      find_openings(f, state, row.closed_pairs);
+    if (speeds > 0 && !law.q_I.empty())
+      follow_events(f, state);
+    else if (speeds > 0)
+      {
+        find_openings(f, state, row.closed_pairs);
+        const double from = last_fraction[f], to = row.contact_fraction;
+        if (std::isnan(half_open[f]) && from >= 0.5 && to < 0.5)
+          half_open[f] = previous_rpm + (from - 0.5) / (from - to) * (state.rpm - previous_rpm);
+      }
     else if (row.closed_pairs < ids.size())
       log << "Interface " << row.name << ": " << ids.size() - row.closed_pairs
           << " pairs are already open at the first speed\n";
 
+    last_fraction[f]      = row.contact_fraction;
     row.first_opening_rpm = first_open[f];
     row.loss_of_fit_rpm =
       fully_open[f]         ? loss_of_fit[f] :
@@ -208,16 +219,63 @@ namespace rotorfit
       first_open[f] = first_now;
     if (closed == 0 && !fully_open[f])
       {
-        fully_open[f] = true;
-        double lof    = total_force_zero_rpm(ids, last_active, last_f_I, last_f_C);
+        double lof = total_force_zero_rpm(ids, last_active, last_f_I, last_f_C);
         if (!std::isnan(lof))
           lof = std::min(std::max(lof, from), to);
-        loss_of_fit[f] = lof;
-        log << "Interface " << name << ": the fit is fully open between " << from << " and "
-            << to << " r/min (loss of fit at " << format_number(lof)
-            << " r/min from the total contact force; last pair at " << format_number(last_now)
-            << " r/min)\n";
+        mark_fully_open(f, lof, from, to, last_now);
       }
+  }
+
+  void
+  FitHistory::mark_fully_open(const unsigned int f, const double rpm, const double from,
+                              const double to, const double last_pair)
+  {
+    fully_open[f]  = true;
+    loss_of_fit[f] = rpm;
+    log << "Interface " << interfaces.list()[f].name << ": the fit is fully open between "
+        << from << " and " << to << " r/min (loss of fit at " << format_number(rpm)
+        << (std::isnan(last_pair) ? " r/min, exact on the path)\n" :
+                                    " r/min from the total contact force; last pair at " +
+                                      format_number(last_pair) + " r/min)\n");
+  }
+
+  void
+  FitHistory::follow_events(const unsigned int f, StaticState &state)
+  {
+    // replay the path's changes of this interface in order: every opening
+    // speed, the first opening, the half-open and the full-opening speed
+    // are event speeds, exact to the solver's precision
+    const auto        &list = pairs.pairs();
+    const auto        &ids  = pairs.pairs_of(f);
+    const auto        &name = interfaces.list()[f].name;
+    std::vector<bool>  member(list.size(), false), active = last_active;
+    unsigned int       closed = 0;
+    for (const auto i : ids)
+      {
+        member[i] = true;
+        closed += active[i];
+      }
+    double fraction = last_fraction[f];
+    for (const auto &e : state.contact.events)
+      if (member[e.pair])
+        {
+          const double rpm = SpeedSchedule::rad_per_s_to_rpm(std::sqrt(e.w));
+          active[e.pair]   = !e.opening;
+          closed           = e.opening ? closed - 1 : closed + 1;
+          const double now = pairs.closed_area(f, active) / pairs.area(f);
+          if (e.opening)
+            {
+              state.openings.push_back({name, list[e.pair].position, rpm, previous_rpm, state.rpm});
+              if (std::isnan(first_open[f]))
+                first_open[f] = rpm;
+            }
+          if (std::isnan(half_open[f]) && fraction >= 0.5 && now < 0.5)
+            half_open[f] = rpm;
+          if (closed == 0 && !fully_open[f])
+            mark_fully_open(f, rpm, previous_rpm, state.rpm, nan);
+          fraction = now;
+          state.events.push_back({name, list[e.pair].position, rpm, e.opening, closed, now});
+        }
   }
 
   bool
@@ -256,6 +314,7 @@ namespace rotorfit
         summary.add(key + "constraint_error_max", have ? worst_error[f] : 0.);
         summary.add(key + "asymmetry_max", have ? worst_asymmetry[f] : 0.);
         summary.add(key + "first_opening_rpm", first);
+        summary.add(key + "half_open_rpm", have ? half_open[f] : nan);
         summary.add(key + "loss_of_fit_rpm", lof);
         summary.add(key + "loss_of_fit_within_sweep", opened ? 1 : 0);
         log << "Interface " << interfaces.list()[f].name << ": first opening " << format_number(first)

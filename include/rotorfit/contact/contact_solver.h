@@ -57,6 +57,22 @@ namespace rotorfit
       augmented_lagrangian
     };
 
+    /// How the active set follows the speed: from event to event in
+    /// Omega^2 (exact), or settled anew at each requested speed (sampled).
+    enum class Path
+    {
+      exact,
+      sampled
+    };
+
+    /// A pair that changed state on the exact path.
+    struct Event
+    {
+      double       w;       ///< Omega^2 at the change [rad^2/s^2]
+      unsigned int pair;    ///< index into ContactPairs::pairs()
+      bool         opening; ///< true: closed -> open; false: open -> closed
+    };
+
     /**
      * Solution of one active set: X(w) = X_I + w X_C. Affine (spin softening
      * off): the interference and unit-centrifugal load cases, exact for all
@@ -68,6 +84,9 @@ namespace rotorfit
       std::vector<double> force_I, force_C; ///< N = force_I + w force_C [N]
       std::vector<double> gap_I, gap_C;     ///< g = gap_I + w gap_C [m]
       std::vector<double> pressure_I, pressure_C; ///< p = M_surface^-1 N [Pa]
+      /// exact path: the pair loads of the two load cases on the base,
+      /// u = K_base^-1 (F + B q) (empty on the sampled path)
+      std::vector<double> q_I, q_C;
       dealii::PETScWrappers::MPI::Vector u_I, u_C; ///< locally owned
       bool   affine  = true; ///< false: a tangent at w_fixed
       double w_fixed = 0;
@@ -93,6 +112,8 @@ namespace rotorfit
       std::string         reason; ///< why not converged (empty if it is)
       /// largest ContactPairs::asymmetry() over the interfaces (set by the sweep)
       double              asymmetry = 0;
+      /// exact path: the changes since the previous speed, in order of w
+      std::vector<Event>  events;
     };
 
     static void
@@ -141,6 +162,13 @@ namespace rotorfit
     method() const
     {
       return contact_method;
+    }
+
+    /// The path in use (exact needs spin softening off).
+    Path
+    path() const
+    {
+      return exact_path() ? Path::exact : Path::sampled;
     }
 
     /// Largest constraint error max |g| / delta of the closed pairs that
@@ -212,7 +240,56 @@ namespace rotorfit
       return influence_columns;
     }
 
+    /// Largest relative residual of a pair-space solve (exact path).
+    double
+    worst_path_residual() const
+    {
+      return worst_pair_residual;
+    }
+
   private:
+    /// The active-set iteration at @p w from the current set (counts and
+    /// failure added to @p state).
+    void
+    settle(const double w, State &state);
+
+    /// The exact path is in use (asked for, and the law is affine).
+    bool
+    exact_path() const
+    {
+      return requested_path == Path::exact && M_perp == nullptr;
+    }
+
+    // the exact path (contact_path.cc; doc/theory.md 7.8)
+    /// Factorise the base (every pair closed), all influence columns and
+    /// t_C = B^T K_base^-1 F_c: the pair-space problem of every active set.
+    void
+    start_path();
+    /// Follow the events from the last speed up to (not including) @p w.
+    void
+    advance_path(const double w, State &state);
+    /// Smallest w' > @p w where pair @p i leaves its state under the
+    /// current law (infinity: never).
+    double
+    event_w(const unsigned int i, const double w) const;
+    /// The law of @p active in pair space (no sparse solve).
+    void
+    pair_space_decomposition(const std::vector<bool> &active);
+    /// Row @p i of the pair-space matrix for @p closed, and its two
+    /// right-hand sides (interference, unit centrifugal load).
+    void
+    pair_space_row(const unsigned int i, const bool closed, std::vector<double> &row,
+                   double &rhs_I, double &rhs_C) const;
+    /// The two right-hand sides of that row alone.
+    void
+    pair_space_rhs(const unsigned int i, const bool closed, double &rhs_I, double &rhs_C) const;
+    /// Invert the pair-space matrix of @p active into path_inverse.
+    void
+    invert_pair_space(const std::vector<bool> &active);
+    /// u_I, u_C of the current decomposition (two back-substitutions).
+    void
+    ensure_displacements();
+
     /// Forces, gaps and pressures of the current decomposition at @p w.
     void
     evaluate(const double w, State &state) const;
@@ -315,6 +392,7 @@ namespace rotorfit
     double       uzawa_tolerance           = 1e-8;
     double       update_limit              = 0.25;
     double       penalty_error_limit       = 0.01;
+    Path         requested_path            = Path::exact;
     bool         uzawa_capped              = false; ///< in the decomposition being built
 
     const ContactPairs                             *pairs       = nullptr;
@@ -350,5 +428,15 @@ namespace rotorfit
     Decomposition                            current;
     unsigned int                             uzawa_count = 0;
     unsigned int                             decompositions = 0;
+
+    // exact path: F = B^T K_base^-1 B (row-major, n x n), t_C = B^T K_base^-1
+    // F_c, the base springs e (eps on the base's closed pairs), the inverse
+    // of the pair-space matrix of path_active (Sherman-Morrison updates)
+    bool                path_started = false;
+    double              path_w       = 0;
+    std::vector<double> flexibility, t_C, base_spring, path_inverse;
+    std::vector<bool>   path_active;
+    unsigned int        path_updates = 0, u_serial = 0;
+    double              worst_pair_residual = 0;
   };
 } // namespace rotorfit

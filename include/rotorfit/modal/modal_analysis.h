@@ -55,6 +55,11 @@ namespace rotorfit
     const ModalResult &
     analyse(EigenSolution &&solution);
 
+    /// The modes of a solution off the sweep (a critical speed): whirl
+    /// classified, not tracked, no crossings.
+    ModalResult
+    classify(EigenSolution &&solution) const;
+
     /// The result of the last analyse().
     const ModalResult &
     last_result() const

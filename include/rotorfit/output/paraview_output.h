@@ -6,6 +6,7 @@
 
 #include <deal.II/numerics/data_out.h>
 
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -13,26 +14,31 @@
 namespace rotorfit
 {
   /**
-   * The ParaView files: per speed one solution_*.pvtu (displacement, von
-   * Mises stress, body, contact status, pressure and gap) indexed by
-   * solution.pvd, and one modes_*.pvtu (real and imaginary parts of every
-   * elastic mode, the tied pairs) indexed by modes.pvd.
+   * The ParaView files (zlib-compressed .vtu): per chosen speed one
+   * solution_*.pvtu (displacement, von Mises stress, body, contact status,
+   * pressure and gap on the curved cells) indexed by solution.pvd, and one
+   * modes_*.pvtu (real and imaginary parts of every elastic mode, the tied
+   * pairs; on the cells' vertices, a third of the size) indexed by
+   * modes.pvd. The critical speeds get their own series,
+   * critical_solution / critical_modes.
    */
   class ParaViewOutput
   {
   public:
     ParaViewOutput(const Discretization &model, const std::string &directory);
 
+    /// @p series: "solution" or "critical_solution"; @p index: the file's number in it.
     void
-    write_static(const StaticState &state);
+    write_static(const StaticState &state, const std::string &series, const unsigned int index);
 
+    /// @p series: "modes" or "critical_modes".
     void
-    write_modes(const ModalResult &modes);
+    write_modes(const ModalResult &modes, const std::string &series, const unsigned int index);
 
   private:
     /// Write @p data_out as speed @p index of @p series (solution, modes).
     void
-    write(const dealii::DataOut<3>                     &data_out,
+    write(dealii::DataOut<3>                           &data_out,
           const std::string                            &series,
           const unsigned int                            index,
           const double                                  rpm,
@@ -40,6 +46,6 @@ namespace rotorfit
 
     const Discretization                       &model;
     std::string                                 directory;
-    std::vector<std::pair<double, std::string>> static_records, mode_records;
+    std::map<std::string, std::vector<std::pair<double, std::string>>> records;
   };
 } // namespace rotorfit

@@ -60,7 +60,8 @@ namespace rotorfit
 
     /// Open the tables: before the first speed.
     void
-    open(const Discretization &model, const bool with_modes, const bool with_response);
+    open(const Discretization &model, const bool with_modes, const bool with_response,
+         const bool with_events);
 
     /// The rows and files of a static state.
     void
@@ -69,6 +70,21 @@ namespace rotorfit
     /// The rows and files of the modes of @p state's speed.
     void
     add(const StaticState &state, const ModalResult &modes);
+
+    /// Refuse Output/ParaView speeds that are not speeds of the run.
+    void
+    check_speeds(const std::vector<double> &run_speeds);
+
+    /// The critical speeds get mode shapes (an eigen solve each).
+    bool
+    shapes_at_critical_speeds() const
+    {
+      return at_critical && (write_shapes || write_paraview);
+    }
+
+    /// The files of a critical speed: its static state and modes.
+    void
+    add_critical(const StaticState &state, const ModalResult &modes);
 
     /// Stability onsets found since the previous speed.
     void
@@ -93,6 +109,10 @@ namespace rotorfit
     finish(const Summary &summary, const bool with_modes);
 
   private:
+    /// ParaView files at the @p index-th speed of the run, @p rpm.
+    bool
+    paraview_at(const unsigned int index, const double rpm) const;
+
     MPI_Comm    comm;
     Log        &log;
     bool        root;
@@ -103,9 +123,14 @@ namespace rotorfit
     bool        plot           = true;
     bool        pictures       = true;
     double      campbell_fmax  = 0;
+    bool        at_all = false, at_ends = true, at_critical = true;
+    std::vector<double> paraview_speeds; ///< listed speeds [r/min]
+    unsigned int        last_index       = 0;
+    unsigned int        n_critical_files = 0;
 
     ContactTable                    contact;
     PairOpeningTable                openings;
+    ContactEventTable               events;
     CampbellTable                   campbell;
     CriticalSpeedTable              critical;
     RigidModeTable                  rigid;

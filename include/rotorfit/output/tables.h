@@ -48,6 +48,16 @@ namespace rotorfit
 
   };
 
+  /// contact_events.csv: every change of a pair on the exact path.
+  class ContactEventTable : CsvTable
+  {
+  public:
+    void
+    open(const std::string &directory);
+    void
+    add(const StaticState &state);
+  };
+
   /// campbell.csv: one row per speed and elastic mode.
   class CampbellTable : CsvTable
   {

@@ -150,6 +150,9 @@ namespace rotorfit
                   const std::string &message);
     void
     assemble_speed_independent_matrices();
+    /// Mode shapes (and static state) at the critical speeds found at @p state's speed.
+    void
+    write_critical_shapes(const StaticState &state);
     /// The log line of a finished speed (contact state, iterations, ETA).
     void
     log_speed(const StaticState &state);

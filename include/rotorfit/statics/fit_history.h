@@ -55,11 +55,23 @@ namespace rotorfit
     void
     find_openings(const unsigned int f, StaticState &state, const unsigned int closed);
 
+    /// The same from the exact path's events (exact speeds; contact_events.csv rows).
+    void
+    follow_events(const unsigned int f, StaticState &state);
+
+    /// The fit of interface @p f is fully open at @p rpm (found between @p from and @p to).
+    void
+    mark_fully_open(const unsigned int f, const double rpm, const double from, const double to,
+                    const double last_pair);
+
     const ContactPairs      &pairs;
     const ContactInterfaces &interfaces;
     Log                     &log;
 
     std::vector<double> first_open, loss_of_fit, mean_p0, max_p0, worst_error, worst_asymmetry;
+    /// contact fraction falls through 0.5 (exact path: an event; sampled:
+    /// linear between speeds), and the fraction at the last speed
+    std::vector<double> half_open, last_fraction;
     std::vector<bool>   fully_open;
     unsigned int        speeds = 0, unconverged = 0;
     double              previous_rpm = 0;

@@ -62,6 +62,13 @@ namespace rotorfit
       contact.release_factorization();
     }
 
+    /// The contact state follows the exact path in Omega^2 (events).
+    bool
+    exact_path() const
+    {
+      return contact.path() == ContactSolver::Path::exact;
+    }
+
     /// Every fit fully open.
     bool
     every_fit_open() const

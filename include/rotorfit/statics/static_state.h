@@ -33,6 +33,17 @@ namespace rotorfit
     double           opening_rpm = 0, from_rpm = 0, to_rpm = 0;
   };
 
+  /// A pair that opened or closed on the exact path: a row of contact_events.csv.
+  struct ContactEventRow
+  {
+    std::string      interface;
+    dealii::Point<3> position;
+    double           rpm     = 0;
+    bool             opening = true;
+    unsigned int     closed_pairs     = 0; ///< of the interface, after the event
+    double           contact_fraction = 0; ///< after the event
+  };
+
   /**
    * The static state at one speed, as the rest of the run sees it: the
    * contact solution, its evaluation per interface and a read-only view of
@@ -48,6 +59,7 @@ namespace rotorfit
     ContactSolver::State contact;   ///< closed pairs, forces, gaps, pressures
     std::vector<InterfaceRow> interfaces;
     std::vector<PairOpening>  openings; ///< since the previous speed
+    std::vector<ContactEventRow> events; ///< since the previous speed (exact path)
     std::string fit_state = "closed";   ///< closed / partial / open (any interface)
 
     bool
