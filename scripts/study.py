@@ -178,7 +178,9 @@ def run_one(study, base_dir, exe, out, sets, reuse):
            "pairs": int(num(s.get(f"interface.{f}.pairs", "nan")) or 0),
            "p0_mpa": num(s.get(f"interface.{f}.mean_pressure_first_speed_Pa")) / 1e6,
            "first_open": num(s.get(f"interface.{f}.first_opening_rpm")),
-           "half_open": half_open(os.path.join(out, "static"), f),
+           # the exact path's event, else interpolated between the static speeds
+           "half_open": num(s[f"interface.{f}.half_open_rpm"])
+           if f"interface.{f}.half_open_rpm" in s else half_open(os.path.join(out, "static"), f),
            "full_open": num(s.get(f"interface.{f}.loss_of_fit_rpm")),
            "constraint_error": num(s.get(f"interface.{f}.constraint_error_max"))}
     speeds = [num(x) for x in study["modal speeds"].split(",")]
