@@ -52,6 +52,7 @@ namespace rotorfit
   ModalAnalysis::setup(const Discretization &model)
   {
     stations.build(model, n_stations);
+    linear_elements = model.element_order() == 1;
   }
 
   ModalResult
@@ -111,7 +112,12 @@ namespace rotorfit
                             " Hz came without the second member of their doublet (equal "
                             "frequency within 1 %): the eigensolver missed eigenvalues. Keep "
                             "Eigenproblem/Shift below the lowest frequency of interest, or raise "
-                            "Krylov size factor");
+                            "Krylov size factor" +
+                            std::string(linear_elements ?
+                                          "; with Geometry/Element order = 1 the locking of "
+                                          "the linear elements can also split a doublet by more "
+                                          "than 1 %: use order 2" :
+                                          ""));
   }
 
   void

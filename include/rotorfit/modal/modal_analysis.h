@@ -84,5 +84,6 @@ namespace rotorfit
     ModeTracker               tracker;
     ModalResult               result;
     unsigned int              n_critical = 0;
+    bool                      linear_elements = false; ///< Element order 1: locking may split doublets
   };
 } // namespace rotorfit
