@@ -251,7 +251,6 @@ namespace rotorfit
           const double factor = -1. / denominator;
           dger_(&nn, &nn, &factor, y.data(), &inc, z_k.data(), &inc, path_inverse.data(), &nn);
           path_active[k] = active[k];
-          ++path_updates;
         }
     if (!changed.empty())
       ++low_rank_updates;

@@ -195,6 +195,7 @@ namespace rotorfit
     }
     check_finite(state);
     uzawa_iterations += state.contact.uzawa_iterations;
+    contact_events += state.contact.events.size();
     history.record(state, contact.decomposition(), contact.constraint_error_limit());
     return state;
   }
@@ -233,6 +234,11 @@ namespace rotorfit
     summary.add("static.low_rank_updates", contact.n_low_rank_updates());
     summary.add("static.influence_columns", contact.n_influence_columns());
     summary.add("static.uzawa_iterations", uzawa_iterations);
+    summary.add("static.speed_path", exact_path() ? "exact" : "sampled");
+    summary.add("static.contact_events", contact_events);
+    // exact path: the largest relative residual of a pair-space solve (a
+    // speed above 1e-8 is flagged converged = 0 in contact.csv)
+    summary.add("static.pair_space_residual_max", contact.worst_path_residual());
     summary.add("static.workspace_retries", contact.linear_solver().n_workspace_retries());
     log << "Static sweep: " << history.n_speeds() << " speeds, " << contact.n_factorizations()
         << " factorisations, " << contact.n_low_rank_updates() << " low-rank updates ("
@@ -241,8 +247,11 @@ namespace rotorfit
         << " back-substitutions (influence columns included); " << std::fixed
         << std::setprecision(1) << contact.timing().factorize << " s factorising, "
         << contact.timing().columns << " s influence columns, " << contact.timing().solves
-        << " s load-case back-substitutions" << std::defaultfloat << std::setprecision(6)
-        << '\n';
+        << " s load-case back-substitutions" << std::defaultfloat << std::setprecision(6);
+    if (exact_path())
+      log << "; exact path: " << contact_events << " contact events, largest pair-space residual "
+          << contact.worst_path_residual();
+    log << '\n';
   }
 } // namespace rotorfit
 

@@ -436,7 +436,7 @@ namespace rotorfit
     double              path_w       = 0;
     std::vector<double> flexibility, t_C, base_spring, path_inverse;
     std::vector<bool>   path_active;
-    unsigned int        path_updates = 0, u_serial = 0;
+    unsigned int        u_serial = 0;
     double              worst_pair_residual = 0;
   };
 } // namespace rotorfit

@@ -108,5 +108,6 @@ namespace rotorfit
     dealii::Vector<double>                   stiffness_diagonal;
     std::vector<double>                      mass, polar; ///< per body [kg], [kg m^2]
     unsigned int                             uzawa_iterations = 0;
+    unsigned int                             contact_events   = 0; ///< exact path, all speeds
   };
 } // namespace rotorfit
