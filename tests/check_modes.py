@@ -764,6 +764,88 @@ def check_mpi(exe, prm, out1, out2, rtol, atol):
     return status if ok else 1
 
 
+def summary_number(out, key):
+    m = re.search(r"^" + re.escape(key) + r" ([-+0-9.eE]+)$",
+                  open(os.path.join(out, "summary.txt")).read(), re.M)
+    return float(m.group(1)) if m else None
+
+
+def check_reduced(exe, prm, out, freq_tol, zeta_tol, *sets):
+    """Consistency of two code paths: the sweep on the reduced model
+    (Eigenproblem/Reduced model = true, its own error checks) against the
+    full solve at every speed. Every whirl frequency within FREQ_TOL
+    (relative), every damping ratio above 1e-4 in magnitude within ZETA_TOL
+    (relative), the same lines (tracked id, whirl) and critical speeds (speed
+    and frequency within FREQ_TOL, damping ratio within ZETA_TOL, every one
+    solved); the reduced run must have served speeds from the reduced model
+    and the full one none."""
+    full, red = os.path.join(out, "full"), os.path.join(out, "reduced")
+    run_test.run(exe, prepare(prm, full, [*sets, "Eigenproblem/Reduced model=false"]))
+    run_test.run(exe, prepare(prm, red, [*sets, "Eigenproblem/Reduced model=true"]))
+    freq_tol, zeta_tol = float(freq_tol), float(zeta_tol)
+    ok = True
+    served, none = summary_number(red, "eigen.reduced_solves"), summary_number(full, "eigen.reduced_solves")
+    good = served is not None and served > 0 and none == 0
+    print(f"speeds served by the reduced model: {served} (full run: {none})", "ok" if good else "FAILED")
+    ok &= good
+    a = {(r["speed_rpm"], r["mode"]): r for r in rows(red)}
+    b = {(r["speed_rpm"], r["mode"]): r for r in rows(full)}
+    good = a.keys() == b.keys()
+    print(f"campbell.csv rows: {len(a)} reduced, {len(b)} full", "ok" if good else "FAILED")
+    ok &= good
+    worst_f, worst_z, labels = 0.0, 0.0, 0
+    for k in sorted(a.keys() & b.keys()):
+        fa, fb = float(a[k]["frequency_hz"]), float(b[k]["frequency_hz"])
+        za, zb = float(a[k]["damping_ratio"]), float(b[k]["damping_ratio"])
+        worst_f = max(worst_f, abs(fa - fb) / abs(fb))
+        if abs(zb) > 1e-4:
+            worst_z = max(worst_z, abs(za - zb) / abs(zb))
+        labels += (a[k]["whirl"], a[k]["tracked_id"]) != (b[k]["whirl"], b[k]["tracked_id"])
+    for name, got, tol in (("frequency", worst_f, freq_tol), ("damping ratio", worst_z, zeta_tol)):
+        print(f"largest relative {name} difference {got:.3e} (tolerance {tol:g})",
+              "ok" if got <= tol else "FAILED")
+        ok &= got <= tol
+    # the error estimate keeps its promise: |d lambda| / |lambda| <= Reduced
+    # tolerance, so frequencies (relative) and damping ratios (absolute)
+    # within 10 x that (the estimate is first-order accurate)
+    promised = float(next((x.split("=", 1)[1] for x in sets
+                           if x.startswith("Eigenproblem/Reduced tolerance=")), "1e-7"))
+    worst_dz = max(abs(float(a[k]["damping_ratio"]) - float(b[k]["damping_ratio"]))
+                   for k in a.keys() & b.keys())
+    good = worst_f <= 10 * promised and worst_dz <= 10 * promised
+    print(f"against the Reduced tolerance {promised:g}: frequency {worst_f:.3e}, damping ratio "
+          f"{worst_dz:.3e} absolute (limit {10 * promised:g})", "ok" if good else "FAILED")
+    ok &= good
+    print(f"rows with another whirl or line: {labels}", "ok" if labels == 0 else "FAILED")
+    ok &= labels == 0
+    ca, cb = rows(red, "critical_speeds.csv"), rows(full, "critical_speeds.csv")
+    good = len(ca) == len(cb)
+    print(f"critical speeds: {len(ca)} reduced, {len(cb)} full", "ok" if good else "FAILED")
+    ok &= good
+    for x, y in zip(ca, cb):
+        d_rpm = abs(float(x["speed_rpm"]) - float(y["speed_rpm"])) / float(y["speed_rpm"])
+        d_f = abs(float(x["frequency_hz"]) - float(y["frequency_hz"])) / float(y["frequency_hz"])
+        zb = float(y["damping_ratio"])
+        d_z = abs(float(x["damping_ratio"]) - zb) / abs(zb) if abs(zb) > 1e-4 else 0.0
+        good = d_rpm <= freq_tol and d_f <= freq_tol and d_z <= zeta_tol and \
+            x["solved"] == "1" and y["solved"] == "1" and x["whirl"] == y["whirl"]
+        print(f"line {x['tracked_id']} {x['whirl']} {x['order']}X: {x['speed_rpm']} vs "
+              f"{y['speed_rpm']} r/min ({d_rpm:.2e}), frequency {d_f:.2e}, damping {d_z:.2e}, "
+              f"solved {x['solved']}/{y['solved']}", "ok" if good else "FAILED")
+        ok &= good
+    oa, ob = rows(red, "stability_onsets.csv"), rows(full, "stability_onsets.csv")
+    good = len(oa) == len(ob)
+    print(f"stability onsets: {len(oa)} reduced, {len(ob)} full", "ok" if good else "FAILED")
+    ok &= good
+    for x, y in zip(oa, ob):
+        d = abs(float(x["onset_rpm"]) - float(y["onset_rpm"])) / float(y["onset_rpm"])
+        good = d <= freq_tol and x["converged"] == y["converged"] == "1"
+        print(f"onset of line {x['tracked_id']}: {x['onset_rpm']} vs {y['onset_rpm']} r/min "
+              f"({d:.2e})", "ok" if good else "FAILED")
+        ok &= good
+    return 0 if ok else 1
+
+
 def check_failure(exe, prm, out, text):
     args = prepare(prm, out)
     env = dict(os.environ)
@@ -804,7 +886,8 @@ if __name__ == "__main__":
               "unbalance": check_unbalance, "stability_onset": check_stability_onset,
               "torsion_crossing": check_torsion_crossing,
               "ring_symmetry": check_ring_symmetry, "study": check_study,
-              "refinement": check_refinement, "locking": check_locking, "asymmetry": check_asymmetry, "mpi": check_mpi, "failure": check_failure}
+              "refinement": check_refinement, "locking": check_locking, "asymmetry": check_asymmetry, "mpi": check_mpi, "failure": check_failure,
+              "reduced": check_reduced}
     if mode not in checks:
         sys.exit(f"unknown mode {mode}")
     status = checks[mode](*args)

@@ -158,11 +158,15 @@ namespace rotorfit
   void
   replicated_vmult(const PETScWrappers::MPI::SparseMatrix &A,
                    const Vector<double>                   &x,
-                   Vector<double>                         &y)
+                   Vector<double>                         &y,
+                   const bool                              transpose)
   {
     Work work(A);
     scatter(x, 0, work.a);
-    A.vmult(work.b, work.a);
+    if (transpose)
+      A.Tvmult(work.b, work.a);
+    else
+      A.vmult(work.b, work.a);
     y.reinit(x.size(), true);
     gather(work.b, y, 0);
   }
@@ -181,12 +185,57 @@ namespace rotorfit
   }
 
   void
+  replicated_solve(const DirectSolver                          &solver,
+                   const PETScWrappers::MPI::SparseMatrix      &layout,
+                   const std::vector<const Vector<double> *>   &b,
+                   std::vector<Vector<double>>                 &x)
+  {
+    // one MUMPS pass over the factors for the whole block
+    const auto     range   = layout.local_range();
+    const PetscInt n_local = range.second - range.first, n = layout.m(), m = b.size();
+    const MPI_Comm comm    = layout.get_mpi_communicator();
+    x.assign(m, Vector<double>(n));
+    if (m == 0)
+      return;
+    Mat B, X;
+    MatCreateDense(comm, n_local, PETSC_DECIDE, n, m, nullptr, &B);
+    MatCreateDense(comm, n_local, PETSC_DECIDE, n, m, nullptr, &X);
+    PetscScalar *a;
+    PetscInt     ld;
+    MatDenseGetLDA(B, &ld);
+    MatDenseGetArray(B, &a);
+    for (PetscInt j = 0; j < m; ++j)
+      for (PetscInt i = 0; i < n_local; ++i)
+        a[j * ld + i] = (*b[j])[range.first + i];
+    MatDenseRestoreArray(B, &a);
+    MatAssemblyBegin(B, MAT_FINAL_ASSEMBLY);
+    MatAssemblyEnd(B, MAT_FINAL_ASSEMBLY);
+    solver.solve(X, B);
+    const unsigned int ranks = Utilities::MPI::n_mpi_processes(comm);
+    std::vector<int>   counts(ranks), displs(ranks);
+    const int          local = n_local;
+    MPI_Allgather(&local, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+    for (unsigned int r = 1; r < ranks; ++r)
+      displs[r] = displs[r - 1] + counts[r - 1];
+    const PetscScalar *xa;
+    MatDenseGetLDA(X, &ld);
+    MatDenseGetArrayRead(X, &xa);
+    for (PetscInt j = 0; j < m; ++j)
+      MPI_Allgatherv(xa + j * ld, local, MPI_DOUBLE, x[j].data(), counts.data(), displs.data(),
+                     MPI_DOUBLE, comm);
+    MatDenseRestoreArrayRead(X, &xa);
+    MatDestroy(&B);
+    MatDestroy(&X);
+  }
+
+  void
   replicated_vmult(const PETScWrappers::MPI::SparseMatrix &A,
                    const ComplexVector                    &x,
-                   ComplexVector                          &y)
+                   ComplexVector                          &y,
+                   const bool                              transpose)
   {
-    replicated_vmult(A, x.re, y.re);
-    replicated_vmult(A, x.im, y.im);
+    replicated_vmult(A, x.re, y.re, transpose);
+    replicated_vmult(A, x.im, y.im, transpose);
   }
 
   void
@@ -238,52 +287,59 @@ namespace rotorfit
     solver.set_type(DirectSolver::Type::mumps_lu); // Q(sigma) is unsymmetric (G)
   }
 
+  BackwardError::BackwardError(const PETScWrappers::MPI::SparseMatrix &M,
+                               const PETScWrappers::MPI::SparseMatrix &C,
+                               const PETScWrappers::MPI::SparseMatrix &K)
+    : M(M)
+    , C(C)
+    , K(K)
+    , norm_M(M.frobenius_norm())
+    , norm_C(C.frobenius_norm())
+    , norm_K(K.frobenius_norm())
+  {}
+
+  double
+  BackwardError::operator()(const std::complex<double> l,
+                            const ComplexVector       &phi,
+                            ComplexVector             &Mp,
+                            ComplexVector             *residual,
+                            std::complex<double>      *derivative) const
+  {
+    const std::size_t n = M.m();
+    ComplexVector     Cp, Kp;
+    replicated_vmult(M, phi, Mp);
+    replicated_vmult(C, phi, Cp);
+    replicated_vmult(K, phi, Kp);
+    const std::complex<double> l2 = l * l;
+    Vector<double>             re(n), im(n);
+    for (std::size_t i = 0; i < n; ++i)
+      {
+        const std::complex<double> r = l2 * std::complex<double>(Mp.re[i], Mp.im[i]) +
+                                       l * std::complex<double>(Cp.re[i], Cp.im[i]) +
+                                       std::complex<double>(Kp.re[i], Kp.im[i]);
+        re[i] = r.real();
+        im[i] = r.imag();
+      }
+    const double norm_phi = std::sqrt(phi.re.norm_sqr() + phi.im.norm_sqr());
+    const double norm_r   = std::sqrt(re.norm_sqr() + im.norm_sqr());
+    if (derivative != nullptr)
+      {
+        const auto dot = [](const ComplexVector &a, const ComplexVector &b) { // a^H b
+          return std::complex<double>(a.re * b.re + a.im * b.im, a.re * b.im - a.im * b.re);
+        };
+        *derivative = 2. * l * dot(phi, Mp) + dot(phi, Cp);
+      }
+    const double scale = (std::norm(l) * norm_M + std::abs(l) * norm_C + norm_K) * norm_phi;
+    if (residual != nullptr)
+      {
+        residual->re = std::move(re);
+        residual->im = std::move(im);
+      }
+    return scale > 0 ? norm_r / scale : 0.;
+  }
+
   namespace
   {
-    /// Backward error of (lambda, phi) on the quadratic problem:
-    /// ||Q(lambda) phi|| / ((|lambda|^2 ||M|| + |lambda| ||C|| + ||K||) ||phi||).
-    class BackwardError
-    {
-    public:
-      BackwardError(const PETScWrappers::MPI::SparseMatrix &M,
-                    const PETScWrappers::MPI::SparseMatrix &C,
-                    const PETScWrappers::MPI::SparseMatrix &K)
-        : M(M)
-        , C(C)
-        , K(K)
-        , norm_M(M.frobenius_norm())
-        , norm_C(C.frobenius_norm())
-        , norm_K(K.frobenius_norm())
-      {}
-
-      /// Also returns M phi in @p Mp (for MAC and energies).
-      double
-      operator()(const std::complex<double> l, const ComplexVector &phi, ComplexVector &Mp) const
-      {
-        const std::size_t n = M.m();
-        ComplexVector     Cp, Kp;
-        replicated_vmult(M, phi, Mp);
-        replicated_vmult(C, phi, Cp);
-        replicated_vmult(K, phi, Kp);
-        const std::complex<double> l2 = l * l;
-        Vector<double>             re(n), im(n);
-        for (std::size_t i = 0; i < n; ++i)
-          {
-            const std::complex<double> r = l2 * std::complex<double>(Mp.re[i], Mp.im[i]) +
-                                           l * std::complex<double>(Cp.re[i], Cp.im[i]) +
-                                           std::complex<double>(Kp.re[i], Kp.im[i]);
-            re[i] = r.real();
-            im[i] = r.imag();
-          }
-        const double scale = (std::norm(l) * norm_M + std::abs(l) * norm_C + norm_K) * norm(phi);
-        return scale > 0 ? std::sqrt(re.norm_sqr() + im.norm_sqr()) / scale : 0.;
-      }
-
-    private:
-      const PETScWrappers::MPI::SparseMatrix &M, &C, &K;
-      const double                            norm_M, norm_C, norm_K;
-    };
-
     /// The eigenpair of ARPACK's slot @p j (and of its partner j + 1 for a
     /// complex pair: @p j is advanced past it), with Im lambda >= 0 and
     /// |phi| = 1; false for an unconverged slot.
@@ -362,6 +418,19 @@ namespace rotorfit
     }
   } // namespace
 
+  void
+  DampedEigensolver::factorize(const PETScWrappers::MPI::SparseMatrix &M,
+                               const PETScWrappers::MPI::SparseMatrix &C,
+                               const PETScWrappers::MPI::SparseMatrix &K,
+                               PETScWrappers::MPI::SparseMatrix       &Q)
+  {
+    // Q(sigma) = K + sigma C + sigma^2 M: one pattern for all of them
+    MatCopy(K, Q, SAME_NONZERO_PATTERN);
+    MatAXPY(Q, sigma, C, SAME_NONZERO_PATTERN);
+    MatAXPY(Q, sigma * sigma, M, SAME_NONZERO_PATTERN);
+    solver.factorize(Q);
+  }
+
   std::vector<EigenPair>
   DampedEigensolver::solve(const PETScWrappers::MPI::SparseMatrix &M,
                            const PETScWrappers::MPI::SparseMatrix &C,
@@ -377,14 +446,8 @@ namespace rotorfit
       return std::chrono::duration<double>(clock::now() - t0).count();
     };
     auto t0 = clock::now();
-    // Q(sigma) = K + sigma C + sigma^2 M: one pattern for all of them
     if (attempt == 0)
-      {
-        MatCopy(K, Q, SAME_NONZERO_PATTERN);
-        MatAXPY(Q, sigma, C, SAME_NONZERO_PATTERN);
-        MatAXPY(Q, sigma * sigma, M, SAME_NONZERO_PATTERN);
-        solver.factorize(Q);
-      }
+      factorize(M, C, K, Q);
     const double t_factor = seconds(t0);
     t0                    = clock::now();
 

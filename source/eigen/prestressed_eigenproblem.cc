@@ -34,6 +34,7 @@ namespace rotorfit
   {
     Bearings::declare_list(prm);
     DampedEigensolver::declare_parameters(prm);
+    ReducedBasis::declare_parameters(prm);
     prm.enter_subsection("Eigenproblem");
     prm.declare_entry("Compute modes",
                       "true",
@@ -101,6 +102,7 @@ namespace rotorfit
   {
     bearings.parse_parameters(prm, prm_directory);
     eigensolver.parse_parameters(prm);
+    reduced.parse_parameters(prm);
     prm.enter_subsection("Eigenproblem");
     compute  = prm.get_bool("Compute modes");
     n_wanted = prm.get_integer("Number of modes");
@@ -183,7 +185,8 @@ namespace rotorfit
     // the most eigenvalues a speed may ask for: every fit open (each body
     // its own rigid group), plus what a retry adds
     const unsigned int loose_zeros = expected_zero_modes(std::vector<bool>(n_pairs, false), loose);
-    max_nev = 2 * n_wanted + 2 * std::max(zeros, loose_zeros) + 1 + 2 * n_wanted;
+    max_nev = 2 * n_wanted + 2 * std::max(zeros, loose_zeros) + 1 + 2 * n_wanted +
+              (reduced.enabled() ? 2 * reduced.margin() : 0);
     if (nev + 3 > 2 * dof_handler.n_dofs())
       throw InputError("Eigenproblem/Number of modes = " + std::to_string(n_wanted) +
                        " needs " + std::to_string(nev) +

@@ -60,6 +60,40 @@ namespace rotorfit
     const unsigned int zeros = expected_zero_modes(solution.tied, loose_body);
     unsigned int       nev   = 2 * n_wanted + 2 * zeros + 1;
 
+    if (reduced.enabled())
+      {
+        // a contact segment (tied set) of its own starts a new basis
+        if (solution.tied != basis_tied)
+          {
+            reduced.clear();
+            basis_tied = solution.tied;
+          }
+        std::string why;
+        bool        done = false;
+        {
+          TimerOutput::Scope t(timer, "eigen: reduced model");
+          done = solve_reduced(state, loose_body, nev, solution, why);
+        }
+        if (done)
+          {
+            ++reduced_solves;
+            if (solution.elastic.size() > n_wanted)
+              solution.elastic.resize(n_wanted);
+            warn_far_shift(solution, state.rpm);
+            announce_loose_bodies(state, loose_body);
+            ++speeds_done;
+            return solution;
+          }
+        if (reduced.size() > 0)
+          {
+            ++reduced_refusals;
+            log << "  eigen: reduced model refused at " << state.rpm << " r/min (" << why
+                << "): full solve, a new anchor\n";
+          }
+        // the anchor's margin: modes that may move into the wanted range
+        nev = std::min<unsigned int>(nev + 2 * reduced.margin(), 2 * model.dofs().n_dofs() - 3);
+      }
+
     unsigned int                  unconverged = 0;
     double                        worst       = 0;
     DampedEigensolver::Statistics stats;
@@ -75,8 +109,15 @@ namespace rotorfit
         }
         TimerOutput::Scope t(timer, "eigen: post-processing + output");
         unconverged = stats.unconverged_slots;
+        std::vector<EigenPair> anchor;
+        if (reduced.enabled())
+          anchor = pairs; // sort_eigenpairs moves the vectors away
         if (sort_eigenpairs(pairs, loose_body, solution, unconverged, worst))
-          break;
+          {
+            if (reduced.enabled())
+              add_anchor(state.rpm, anchor);
+            break;
+          }
         unsigned int n_rigid = 0, n_loose = 0, n_overdamped = 0;
         for (const auto &r : solution.rigid)
           (r.kind == "loose" ? n_loose : r.kind == "rigid" ? n_rigid : n_overdamped) +=
@@ -107,6 +148,7 @@ namespace rotorfit
                               "; raise Eigenproblem/Maximum restarts or Krylov size factor, or "
                               "move the Shift");
       }
+    ++full_solves;
     log_speed(solution, stats, worst);
     if (solution.elastic.size() > n_wanted)
       solution.elastic.resize(n_wanted);
@@ -174,11 +216,15 @@ namespace rotorfit
       (r.kind == "loose" ? n_loose : r.kind == "rigid" ? n_rigid : n_overdamped) +=
         (r.lambda.imag() != 0 ? 2 : 1);
     const auto        &elastic = solution.elastic;
+    const std::size_t  shown   = std::min<std::size_t>(n_wanted, elastic.size());
     std::ostringstream line;
-    line << "  eigen: " << elastic.size() << " whirl modes";
-    if (!elastic.empty())
+    line << "  eigen: " << shown << " whirl modes";
+    if (shown > 0)
       line << " " << std::setprecision(5) << elastic.front().lambda.imag() / (2 * M_PI)
-           << " .. " << elastic.back().lambda.imag() / (2 * M_PI) << " Hz";
+           << " .. " << elastic[shown - 1].lambda.imag() / (2 * M_PI) << " Hz";
+    if (elastic.size() > shown)
+      line << " (+ " << elastic.size() - shown << " up to " << std::setprecision(5)
+           << elastic.back().lambda.imag() / (2 * M_PI) << " Hz for the reduced basis)";
     line << ", " << n_rigid << " rigid, " << n_loose << " loose-body, " << n_overdamped
          << " overdamped (state-space eigenvalues); nev " << stats.requested << ", Krylov "
          << stats.krylov_size << ", " << stats.iterations << " restarts, "
@@ -275,10 +321,20 @@ namespace rotorfit
     summary.add("eigen.speeds", speeds_done);
     summary.add("eigen.worst_backward_error", worst_backward_error, 12);
     summary.add("eigen.retried_speeds", retried_speeds);
+    summary.add("eigen.full_solves", full_solves);
+    summary.add("eigen.reduced_solves", reduced_solves);
+    summary.add("eigen.reduced_refusals", reduced_refusals);
+    if (reduced_solves > 0)
+      summary.add("eigen.reduced_worst_error_estimate", reduced_worst, 12);
     summary.add("eigen.workspace_retries", eigensolver.linear_solver().n_workspace_retries());
-    log << "Eigenproblem: " << speeds_done << " speeds, "
-        << eigensolver.linear_solver().n_factorizations() << " factorisations of Q(sigma), "
-        << "worst backward error " << worst_backward_error << '\n';
+    log << "Eigenproblem: " << speeds_done << " speeds (" << full_solves << " full, "
+        << reduced_solves << " on the reduced model, " << reduced_refusals
+        << " refused by it), " << eigensolver.linear_solver().n_factorizations()
+        << " factorisations of Q(sigma), worst backward error " << worst_backward_error
+        << (reduced_solves > 0 ? ", largest estimated error of a reduced mode " : "");
+    if (reduced_solves > 0)
+      log << reduced_worst;
+    log << '\n';
   }
 
   void

@@ -1,8 +1,10 @@
 #include <rotorfit/base/input_error.h>
+#include <rotorfit/modal/line_root.h>
 #include <rotorfit/modal/modal_analysis.h>
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 
 #include <deal.II/base/utilities.h>
@@ -83,6 +85,42 @@ namespace rotorfit
   }
 
   void
+  ModalAnalysis::solve_crossings(const StaticState &state, PrestressedEigenproblem &eigen)
+  {
+    for (auto &c : result.crossings)
+      {
+        const auto line = std::find_if(result.modes.begin(), result.modes.end(),
+                                       [&](const WhirlMode &m) { return m.tracked_id == c.tracked_id; });
+        if (line == result.modes.end())
+          continue;
+        const unsigned int k = c.order;
+        const LineRoot     root =
+          solve_line_root(*line, c.from_rpm, c.from_value, c.to_rpm, c.to_value,
+                          [k](const std::complex<double> l, const double rpm) {
+                            return l.imag() / (2 * M_PI) - k * rpm / 60.;
+                          },
+                          1e-9 * std::abs(c.frequency_hz), state, eigen, log,
+                          "critical speed of line " + std::to_string(c.tracked_id));
+        c.eigen_solves = root.evaluations;
+        c.solved       = root.converged;
+        if (root.evaluations > 0)
+          {
+            c.rpm           = root.rpm;
+            c.frequency_hz  = root.lambda.imag() / (2 * M_PI);
+            c.damping_ratio = -root.lambda.real() / std::abs(root.lambda);
+          }
+        if (!c.solved)
+          ++n_unsolved;
+        log << "  critical speed: line " << c.tracked_id << " (" << c.whirl << ") meets " << k
+            << "X at " << std::setprecision(8) << c.rpm << " r/min, " << c.frequency_hz
+            << " Hz, damping ratio " << std::setprecision(4) << c.damping_ratio << " ("
+            << root.evaluations << " eigen solves"
+            << (c.solved ? "" : "; NOT converged, the last trial is kept") << ")\n"
+            << std::setprecision(6);
+      }
+  }
+
+  void
   ModalAnalysis::check_doublets() const
   {
     // At rest on isotropic bearings an axisymmetric rotor's lateral modes
@@ -124,6 +162,7 @@ namespace rotorfit
   ModalAnalysis::finish(Summary &summary) const
   {
     summary.add("eigen.critical_speeds", n_critical);
+    summary.add("eigen.critical_speeds_unsolved", n_unsolved);
     log << "Critical speeds: " << n_critical << " crossing(s) in critical_speeds.csv\n";
   }
 } // namespace rotorfit

@@ -83,8 +83,18 @@ namespace rotorfit
                   const double t = h0 / (h0 - h1);
                   const double s = previous_rpm + (rpm - previous_rpm) * t;
                   const double z0 = previous[match[b]].damping_ratio;
-                  crossings.push_back(
-                    {m.tracked_id, m.whirl, k, s, k * s / 60., z0 + t * (zeta(m) - z0)});
+                  CriticalSpeed c;
+                  c.tracked_id    = m.tracked_id;
+                  c.whirl         = m.whirl;
+                  c.order         = k;
+                  c.rpm           = s;
+                  c.frequency_hz  = k * s / 60.;
+                  c.damping_ratio = z0 + t * (zeta(m) - z0);
+                  c.from_rpm      = previous_rpm;
+                  c.from_value    = h0;
+                  c.to_rpm        = rpm;
+                  c.to_value      = h1;
+                  crossings.push_back(c);
                 }
             }
         current.push_back({m.tracked_id, f, zeta(m), m.whirl, m.phi, m.m_phi});

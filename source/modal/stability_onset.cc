@@ -1,6 +1,6 @@
 #include <rotorfit/base/format.h>
 #include <rotorfit/base/input_error.h>
-#include <rotorfit/modal/mode_tracker.h>
+#include <rotorfit/modal/line_root.h>
 #include <rotorfit/modal/stability_onset.h>
 
 #include <cmath>
@@ -61,73 +61,25 @@ namespace rotorfit
   }
 
   StabilityOnset
-  StabilityOnsets::root_solve(const WhirlMode         &line_at_b,
+  StabilityOnsets::root_solve(const WhirlMode         &line,
                               const double             rpm_b,
                               const StaticState       &state,
                               PrestressedEigenproblem &eigen) const
   {
-    const WhirlMode *line = &line_at_b;
     StabilityOnset o;
-    o.tracked_id = line->tracked_id;
-    o.whirl      = line->whirl;
-    double a = previous_rpm, fa = previous.at(line->tracked_id).zeta;
-    double b = rpm_b, fb = damping_ratio(line->lambda);
-    o.direction = fa > 0 ? "unstable above" : "stable above";
-    o.rpm          = b;
-    o.frequency_hz = line->frequency_hz();
-    int side       = 0; // Illinois: halve the weight of an end kept twice
-    for (o.evaluations = 0; o.evaluations < 40; ++o.evaluations)
-      {
-        if (std::abs(b - a) <= 1e-6 * std::abs(b) || fb == 0)
-          {
-            o.converged = true;
-            break;
-          }
-        const double c = (a * fb - b * fa) / (fb - fa);
-        StaticState trial = state; // the later speed's affine law
-        trial.rpm         = c;
-        EigenSolution s;
-        try
-          {
-            s = eigen.solve(trial);
-          }
-        catch (const SolverFailure &e)
-          {
-            log << "Warning: stability onset of line " << o.tracked_id
-                << ": the eigensolver failed at " << c << " r/min (" << e.what()
-                << "); the bracket is kept.\n";
-            break;
-          }
-        double best = -1, fc = 0, freq = 0;
-        for (const auto &p : s.elastic)
-          {
-            const double mac = ModeTracker::mac(line->phi, line->m_phi, p.phi, p.m_phi);
-            if (mac > best)
-              best = mac, fc = damping_ratio(p.lambda), freq = p.lambda.imag() / (2 * M_PI);
-          }
-        o.rpm          = c;
-        o.frequency_hz = freq;
-        if (std::abs(fc) < 1e-10)
-          {
-            o.converged = true;
-            ++o.evaluations;
-            break;
-          }
-        if ((fc > 0) == (fb > 0))
-          {
-            b = c, fb = fc;
-            if (side == -1)
-              fa /= 2;
-            side = -1;
-          }
-        else
-          {
-            a = c, fa = fc;
-            if (side == 1)
-              fb /= 2;
-            side = 1;
-          }
-      }
+    o.tracked_id    = line.tracked_id;
+    o.whirl         = line.whirl;
+    const double fa = previous.at(line.tracked_id).zeta;
+    o.direction     = fa > 0 ? "unstable above" : "stable above";
+    const LineRoot root =
+      solve_line_root(line, previous_rpm, fa, rpm_b, damping_ratio(line.lambda),
+                      [](const std::complex<double> l, double) { return damping_ratio(l); },
+                      1e-10, state, eigen, log,
+                      "stability onset of line " + std::to_string(line.tracked_id));
+    o.rpm          = root.rpm;
+    o.frequency_hz = root.lambda.imag() / (2 * M_PI);
+    o.evaluations  = root.evaluations;
+    o.converged    = root.converged;
     return o;
   }
 

@@ -108,7 +108,7 @@ namespace rotorfit
   CriticalSpeedTable::open(const std::string &directory)
   {
     create(directory + "/critical_speeds.csv", "tracked_id,whirl,order,speed_rpm,frequency_hz,kind,unbalance_excited,"
-           "damping_ratio,amplification_factor", 10);
+           "damping_ratio,amplification_factor,solved,eigen_solves", 10);
   }
 
   void
@@ -128,7 +128,8 @@ namespace rotorfit
         file << c.tracked_id << ',' << c.whirl << ',' << c.order << ',' << c.rpm << ','
              << c.frequency_hz << ',' << (lateral ? "lateral" : "non-lateral") << ','
              << (excited ? 1 : 0) << ',' << c.damping_ratio << ','
-             << (c.damping_ratio > 0 ? 1 / (2 * c.damping_ratio) : 0.) << '\n';
+             << (c.damping_ratio > 0 ? 1 / (2 * c.damping_ratio) : 0.) << ','
+             << (c.solved ? 1 : 0) << ',' << c.eigen_solves << '\n';
       }
     file << std::flush;
   }

@@ -54,7 +54,16 @@ namespace rotorfit
               }
             {
               TimerOutput::Scope t(timer, "modal analysis + output");
-              results.add(state, modal.analyse(std::move(solution)));
+              modal.analyse(std::move(solution));
+            }
+            {
+              // after the response: the trials replace the speed's matrices
+              TimerOutput::Scope t(timer, "critical speeds (root solve)");
+              modal.solve_crossings(state, eigen);
+            }
+            {
+              TimerOutput::Scope t(timer, "modal analysis + output");
+              results.add(state, modal.last_result());
             }
             if (results.shapes_at_critical_speeds())
               write_critical_shapes(state);

@@ -27,6 +27,33 @@ namespace rotorfit
     ComplexVector        phi;    ///< displacement part of the state vector, |phi| = 1
     ComplexVector        m_phi;  ///< M phi (from the backward error, reused for MAC/energies)
     double               backward_error = 0;
+    /// estimated relative error of lambda (reduced solves; 0 for full ones)
+    double error_estimate = 0;
+  };
+
+  /// Backward error of (lambda, phi) on the quadratic problem:
+  /// ||Q(lambda) phi|| / ((|lambda|^2 ||M|| + |lambda| ||C|| + ||K||) ||phi||)
+  /// (Frobenius norms), the measure of every mode's convergence.
+  class BackwardError
+  {
+  public:
+    BackwardError(const dealii::PETScWrappers::MPI::SparseMatrix &M,
+                  const dealii::PETScWrappers::MPI::SparseMatrix &C,
+                  const dealii::PETScWrappers::MPI::SparseMatrix &K);
+
+    /// Also returns M phi in @p Mp (for MAC and energies) and, if asked,
+    /// the residual r = Q(lambda) phi and phi^H Q'(lambda) phi =
+    /// phi^H (2 lambda M + C) phi (for the reduced model's error estimate).
+    double
+    operator()(const std::complex<double> lambda,
+               const ComplexVector       &phi,
+               ComplexVector             &Mp,
+               ComplexVector             *residual   = nullptr,
+               std::complex<double>      *derivative = nullptr) const;
+
+  private:
+    const dealii::PETScWrappers::MPI::SparseMatrix &M, &C, &K;
+    const double                                    norm_M, norm_C, norm_K;
   };
 
   /**
@@ -83,6 +110,13 @@ namespace rotorfit
           Statistics                                     &statistics,
           const unsigned int                              attempt = 0);
 
+    /// Form and factorise Q = K + sigma C + sigma^2 M (solve() does it too).
+    void
+    factorize(const dealii::PETScWrappers::MPI::SparseMatrix &M,
+              const dealii::PETScWrappers::MPI::SparseMatrix &C,
+              const dealii::PETScWrappers::MPI::SparseMatrix &K,
+              dealii::PETScWrappers::MPI::SparseMatrix       &Q);
+
     /// Arnoldi vectors for @p nev eigenvalues at Krylov growth @p growth.
     unsigned int
     krylov_size(const unsigned int nev, const double growth = 1) const;
@@ -114,11 +148,12 @@ namespace rotorfit
     DirectSolver solver;
   };
 
-  /// y = A x for replicated vectors (x, y of full size), A distributed.
+  /// y = A x (or A^T x) for replicated vectors (x, y of full size), A distributed.
   void
   replicated_vmult(const dealii::PETScWrappers::MPI::SparseMatrix &A,
                    const dealii::Vector<double>                   &x,
-                   dealii::Vector<double>                         &y);
+                   dealii::Vector<double>                         &y,
+                   const bool                                      transpose = false);
 
   /// x = A^{-1} b for replicated vectors with @p solver's factorisation of
   /// A (@p layout: a matrix with A's row distribution).
@@ -128,9 +163,17 @@ namespace rotorfit
                    const dealii::Vector<double>                   &b,
                    dealii::Vector<double>                         &x);
 
-  /// Complex y = A x, A real.
+  /// x_j = A^{-1} b_j for a block of replicated vectors (one pass over the factors).
+  void
+  replicated_solve(const DirectSolver                                &solver,
+                   const dealii::PETScWrappers::MPI::SparseMatrix    &layout,
+                   const std::vector<const dealii::Vector<double> *> &b,
+                   std::vector<dealii::Vector<double>>               &x);
+
+  /// Complex y = A x (or A^T x), A real.
   void
   replicated_vmult(const dealii::PETScWrappers::MPI::SparseMatrix &A,
                    const ComplexVector                            &x,
-                   ComplexVector                                  &y);
+                   ComplexVector                                  &y,
+                   const bool                                      transpose = false);
 } // namespace rotorfit

@@ -4,6 +4,7 @@
 #include <rotorfit/bearing/bearings.h>
 #include <rotorfit/eigen/damped_eigensolver.h>
 #include <rotorfit/eigen/eigen_solution.h>
+#include <rotorfit/eigen/reduced_basis.h>
 #include <rotorfit/eigen/rotor_matrices.h>
 #include <rotorfit/model/discretization.h>
 #include <rotorfit/base/summary.h>
@@ -87,7 +88,11 @@ namespace rotorfit
     double
     state_vectors_needed(const double n_dofs) const
     {
-      return std::min<double>(2 * n_dofs, eigensolver.krylov_size(max_nev, 2)) + max_nev + 1;
+      // the reduced model: its basis and two work copies in the projection
+      const double basis =
+        reduced.enabled() ? 1.5 * reduced.capacity(max_nev + 2 * reduced.margin()) : 0.;
+      return std::min<double>(2 * n_dofs, eigensolver.krylov_size(max_nev, 2)) + max_nev + 1 +
+             basis;
     }
 
     /// Bearing faces, sparsity; refuses more modes than the model has.
@@ -102,8 +107,10 @@ namespace rotorfit
     EigenSolution
     solve(const StaticState &state);
 
-    /// The matrices of the last solve() and its factorisation of
-    /// Q(sigma) = K_t + sigma C + sigma^2 M (valid until the next solve).
+    /// The matrices of the last solve() (valid until the next solve) and
+    /// the factorisation of Q(sigma) = K_t + sigma C + sigma^2 M of the
+    /// latest full solve (the speed's own unless it was solved on the
+    /// reduced model: then an approximate inverse, good for building bases).
     struct SpeedOperators
     {
       const dealii::PETScWrappers::MPI::SparseMatrix &mass, &damping, &stiffness;
@@ -111,10 +118,7 @@ namespace rotorfit
       double                                          rpm;
     };
     SpeedOperators
-    operators() const
-    {
-      return {matrices.mass, damping, tangent, eigensolver.linear_solver(), last_rpm};
-    }
+    operators();
 
     /// Log the totals, add the eigen entries to @p summary.
     void
@@ -146,6 +150,27 @@ namespace rotorfit
     void
     log_speed(const EigenSolution &solution, const DampedEigensolver::Statistics &stats,
               const double worst) const;
+    /// Reduced model (prestressed_reduced.cc): the modes of @p state from
+    /// the basis, checked on the full matrices; false (and @p why) if they
+    /// do not pass and the speed needs the full solve.
+    bool
+    solve_reduced(const StaticState       &state,
+                  const std::vector<bool> &loose_body,
+                  const unsigned int       nev,
+                  EigenSolution           &solution,
+                  std::string             &why);
+    /// The projections of the matrices of this speed, cached per basis,
+    /// active set and (speed-dependent) bearing coefficients.
+    void
+    update_projections(const StaticState &state);
+    /// Estimated relative errors of reduced modes' eigenvalues.
+    std::vector<double>
+    error_estimates(const BackwardError                           &backward_error,
+                    const std::vector<const EigenPair *>          &modes,
+                    const std::vector<const ReducedBasis::Pair *> &dense) const;
+    /// A full solve's converged eigenvectors into the basis.
+    void
+    add_anchor(const double rpm, const std::vector<EigenPair> &pairs);
     void
     announce_loose_bodies(const StaticState &state, const std::vector<bool> &loose_body);
     /// Virial checks of K_sigma on rigid tilt and twist (doc/theory.md 10e).
@@ -170,6 +195,24 @@ namespace rotorfit
 
     Bearings                       bearings;
     DampedEigensolver              eigensolver;
+    ReducedBasis                   reduced;
+    /// the tied pairs the basis was built for (a change starts a new basis)
+    std::vector<bool> basis_tied;
+    /// V^T X V of M, G, the tangent at w = 0 and its d/dw, bearing damping
+    dealii::FullMatrix<double> p_mass, p_gyro, p_tangent0, p_tangent2, p_bearing_c;
+    /// what the projections were made for
+    struct ProjectionKey
+    {
+      unsigned int basis = 0, k_sigma = 0;
+      double       rpm   = -1;
+      bool
+      operator==(const ProjectionKey &o) const
+      {
+        return basis == o.basis && k_sigma == o.k_sigma && rpm == o.rpm;
+      }
+    } key_basis{~0u, 0, -1}, key_tangent{~0u, 0, -1}, key_bearing{~0u, 0, -1};
+    unsigned int full_solves = 0, reduced_solves = 0, reduced_refusals = 0;
+    double       reduced_worst = 0; ///< worst backward error of a reduced solve
     dealii::DynamicSparsityPattern sparsity;
     RotorMatrices                  matrices;
 

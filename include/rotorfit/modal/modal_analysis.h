@@ -2,10 +2,12 @@
 
 #include <rotorfit/base/log.h>
 #include <rotorfit/eigen/eigen_solution.h>
+#include <rotorfit/eigen/prestressed_eigenproblem.h>
 #include <rotorfit/modal/mode_tracker.h>
 #include <rotorfit/modal/whirl.h>
 #include <rotorfit/model/discretization.h>
 #include <rotorfit/base/summary.h>
+#include <rotorfit/statics/static_state.h>
 
 #include <deal.II/base/parameter_handler.h>
 
@@ -55,6 +57,12 @@ namespace rotorfit
     const ModalResult &
     analyse(EigenSolution &&solution);
 
+    /// The crossings of the last analyse() solved for their speed: a root
+    /// of f - k rpm / 60 of the line, by solve_line_root on @p state's law
+    /// (the eigenproblem's matrices are those of the last trial afterwards).
+    void
+    solve_crossings(const StaticState &state, PrestressedEigenproblem &eigen);
+
     /// The modes of a solution off the sweep (a critical speed): whirl
     /// classified, not tracked, no crossings.
     ModalResult
@@ -83,7 +91,7 @@ namespace rotorfit
     WhirlStations             stations;
     ModeTracker               tracker;
     ModalResult               result;
-    unsigned int              n_critical = 0;
+    unsigned int              n_critical = 0, n_unsolved = 0;
     bool                      linear_elements = false; ///< Element order 1: locking may split doublets
   };
 } // namespace rotorfit

@@ -14,7 +14,11 @@ namespace rotorfit
     std::string  whirl;
     unsigned int order = 1;
     double       rpm = 0, frequency_hz = 0;
-    double       damping_ratio = 0; ///< of the line, interpolated to the crossing
+    double       damping_ratio = 0; ///< of the line at the crossing
+    /// the speeds around it and f - k rpm / 60 there [Hz] (the root solve's bracket)
+    double       from_rpm = 0, from_value = 0, to_rpm = 0, to_value = 0;
+    unsigned int eigen_solves = 0;     ///< of the root solve
+    bool         solved       = false; ///< by the root solve (else interpolated)
   };
 
   /**
@@ -23,8 +27,8 @@ namespace rotorfit
    * mass-weighted complex MAC (forward and backward members of a family are
    * M-orthogonal, so they are never confused), greedily, best first, and
    * only between modes of the same whirl direction. A line that changes
-   * sign against k X between two speeds crosses it at the linearly
-   * interpolated speed.
+   * sign against k X between two speeds crosses it between them: the
+   * linearly interpolated speed here, solved by ModalAnalysis::solve_crossings.
    */
   class ModeTracker
   {

@@ -1,0 +1,136 @@
+#pragma once
+
+#include <rotorfit/eigen/damped_eigensolver.h>
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/petsc_sparse_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <complex>
+#include <vector>
+
+namespace rotorfit
+{
+  /**
+   * A reduced model of the damped eigenproblem (doc/theory.md 8.6): an
+   * M-orthonormal basis V of the real and imaginary parts of full
+   * eigenvectors at anchor speeds, the projections V^T A V of the sparse
+   * matrices, and the dense quadratic eigenproblem
+   * (lambda^2 V^T M V + lambda V^T C V + V^T K V) y = 0 solved with LAPACK
+   * (dgeev on the first companion form, size 2 m). The basis vectors are
+   * replicated on every MPI rank, like the Arnoldi vectors.
+   *
+   * Which speeds it may serve, and how its modes are checked against the
+   * full matrices, is PrestressedEigenproblem's business
+   * (prestressed_reduced.cc); this class is the linear algebra.
+   *
+   * Parameters: the "Reduced ..." entries of subsection "Eigenproblem".
+   */
+  class ReducedBasis
+  {
+  public:
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+
+    bool
+    enabled() const
+    {
+      return use;
+    }
+
+    /// Estimated relative eigenvalue error a wanted reduced mode must meet.
+    double
+    tolerance() const
+    {
+      return max_error;
+    }
+
+    /// Extra conjugate pairs an anchor solves beyond those wanted.
+    unsigned int
+    margin() const
+    {
+      return extra_modes;
+    }
+
+    /// Assumed bound on |d lambda / d Omega| of any line [-].
+    double
+    slope_bound() const
+    {
+      return max_slope;
+    }
+
+    /// Largest basis before a new anchor replaces it instead of adding.
+    unsigned int
+    capacity(const unsigned int anchor_size) const
+    {
+      return 3 * anchor_size;
+    }
+
+    void
+    clear();
+
+    unsigned int
+    size() const
+    {
+      return basis.size();
+    }
+
+    /// Changes whenever the basis does (projections are cached against it).
+    unsigned int
+    version() const
+    {
+      return serial;
+    }
+
+    /// Add @p x, M-orthonormalised against the basis (classical Gram-Schmidt
+    /// twice); false if it lies in the span to 1e-10 (then not added).
+    bool
+    add(const dealii::Vector<double> &x, const dealii::PETScWrappers::MPI::SparseMatrix &M);
+
+    /// V^T A V.
+    dealii::FullMatrix<double>
+    project(const dealii::PETScWrappers::MPI::SparseMatrix &A) const;
+
+    /// Eigenvalue, right and left reduced eigenvectors y, w (length m) of
+    /// the dense problem: Q_r(lambda) y = 0, w^H Q_r(lambda) = 0.
+    struct Pair
+    {
+      std::complex<double>              lambda;
+      std::vector<std::complex<double>> y, w;
+    };
+
+    /// Every eigenvalue with Im >= 0 of lambda^2 Mr + lambda Cr + Kr (the
+    /// conjugates are implied); false if LAPACK failed.
+    bool
+    solve(const dealii::FullMatrix<double> &Mr,
+          const dealii::FullMatrix<double> &Cr,
+          const dealii::FullMatrix<double> &Kr,
+          std::vector<Pair>                &pairs) const;
+
+    /// phi = V y.
+    ComplexVector
+    expand(const std::vector<std::complex<double>> &y) const;
+
+    /// Anchor speeds of this basis and the radius |lambda - sigma| inside
+    /// which their full solve found every eigenvalue.
+    struct Anchor
+    {
+      double rpm = 0, radius = 0;
+    };
+    std::vector<Anchor> anchors;
+
+  private:
+    bool         use                = true;
+    double       max_error = 1e-7;
+    unsigned int extra_modes        = 6;
+    double       max_slope          = 2;
+
+    std::vector<dealii::Vector<double>> basis;
+    unsigned int                        serial = 0;
+  };
+} // namespace rotorfit

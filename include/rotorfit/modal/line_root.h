@@ -1,0 +1,45 @@
+#pragma once
+
+#include <rotorfit/base/log.h>
+#include <rotorfit/eigen/prestressed_eigenproblem.h>
+#include <rotorfit/modal/whirl.h>
+#include <rotorfit/statics/static_state.h>
+
+#include <complex>
+#include <functional>
+#include <string>
+
+namespace rotorfit
+{
+  /// Where a function of a tracked line's eigenvalue is zero.
+  struct LineRoot
+  {
+    double               rpm = 0;
+    std::complex<double> lambda; ///< of the line at rpm
+    unsigned int         evaluations = 0; ///< eigen solves
+    bool                 converged   = false;
+  };
+
+  /**
+   * Illinois regula falsi in the speed on g(lambda, rpm) of one Campbell
+   * line (doc/theory.md 9.7, 9.8): the bracket [a, b] with g(a) = @p ga,
+   * g(b) = @p gb of opposite signs; at each trial speed the eigenproblem is
+   * solved on @p state's affine law (the later speed's active set: exact
+   * unless a pair opens inside the bracket; on the reduced model where it
+   * passes its checks) and the line is the mode of largest MAC with
+   * @p line_at_b. Converged when the bracket is below 1e-6 of the speed or
+   * |g| <= @p g_tolerance. A failed eigen solve keeps the bracket (logged).
+   */
+  LineRoot
+  solve_line_root(const WhirlMode                                                 &line_at_b,
+                  double                                                           a,
+                  double                                                           ga,
+                  double                                                           b,
+                  double                                                           gb,
+                  const std::function<double(std::complex<double>, double)>       &g,
+                  const double                                                     g_tolerance,
+                  const StaticState                                               &state,
+                  PrestressedEigenproblem                                         &eigen,
+                  Log                                                             &log,
+                  const std::string                                               &what);
+} // namespace rotorfit

@@ -1,0 +1,325 @@
+#include <rotorfit/eigen/prestressed_eigenproblem.h>
+#include <rotorfit/statics/speed_schedule.h>
+
+#include <deal.II/base/mpi.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+
+// PrestressedEigenproblem, part 3: the reduced model (doc/theory.md 8.6).
+// A basis per contact segment (tied set) from the full solves at anchor
+// speeds; a speed is served by the projected problem when every mode it
+// keeps meets the reduced tolerance on the full matrices and no mode
+// outside the basis can have moved into the wanted range since the nearest
+// anchor. Anything else is a full solve, which becomes a new anchor.
+
+namespace rotorfit
+{
+  using namespace dealii;
+
+  namespace
+  {
+    /// The dense eigenpairs of rank 0 on every rank, so that every rank
+    /// takes the same decisions (and makes the same collective calls).
+    void
+    broadcast(std::vector<ReducedBasis::Pair> &pairs, const unsigned int m, const MPI_Comm comm)
+    {
+      if (Utilities::MPI::n_mpi_processes(comm) == 1)
+        return;
+      unsigned long count = pairs.size();
+      MPI_Bcast(&count, 1, MPI_UNSIGNED_LONG, 0, comm);
+      std::vector<double> flat(count * (2 + 2 * m));
+      if (Utilities::MPI::this_mpi_process(comm) == 0)
+        for (std::size_t k = 0; k < count; ++k)
+          {
+            double *f = flat.data() + k * (2 + 2 * m);
+            f[0]      = pairs[k].lambda.real();
+            f[1]      = pairs[k].lambda.imag();
+            for (unsigned int i = 0; i < m; ++i)
+              f[2 + 2 * i] = pairs[k].y[i].real(), f[3 + 2 * i] = pairs[k].y[i].imag();
+          }
+      MPI_Bcast(flat.data(), flat.size(), MPI_DOUBLE, 0, comm);
+      pairs.assign(count, {});
+      for (std::size_t k = 0; k < count; ++k)
+        {
+          const double *f = flat.data() + k * (2 + 2 * m);
+          pairs[k].lambda = {f[0], f[1]};
+          pairs[k].y.resize(m);
+          for (unsigned int i = 0; i < m; ++i)
+            pairs[k].y[i] = {f[2 + 2 * i], f[3 + 2 * i]};
+        }
+    }
+  } // namespace
+
+  std::vector<double>
+  PrestressedEigenproblem::error_estimates(const BackwardError                          &backward_error,
+                                           const std::vector<const EigenPair *>         &modes,
+                                           const std::vector<const ReducedBasis::Pair *> &dense) const
+  {
+    // A Ritz value errs by about s^H Q^-1 r / (y^H Q'(lambda) phi), with the
+    // right residual r = Q(lambda) phi and the left one s = Q(lambda)^H y of
+    // the reduced left vector y (a damped rotor's left and right vectors
+    // differ, so the error is not second order in r alone). Q(sigma) of the
+    // latest full solve stands for Q: sigma lies far below the modes, and
+    // the error components outside the basis are stiffer than the mode
+    // (doc/theory.md 8.6). Bounded by Cauchy-Schwarz in its norm.
+    const auto dot = [](const ComplexVector &a, const ComplexVector &b) { // a^H b
+      return std::complex<double>(a.re * b.re + a.im * b.im, a.re * b.im - a.im * b.re);
+    };
+    const auto axpy = [](const std::complex<double> a, const ComplexVector &x, ComplexVector &z) {
+      z.re.add(a.real(), x.re, -a.imag(), x.im);
+      z.im.add(a.imag(), x.re, a.real(), x.im);
+    };
+    std::vector<ComplexVector>            r(modes.size()), s(modes.size());
+    std::vector<double>                   denominator(modes.size());
+    std::vector<const Vector<double> *>   rhs;
+    for (std::size_t k = 0; k < modes.size(); ++k)
+      {
+        const EigenPair     &p = *modes[k];
+        ComplexVector        m_phi, c_phi;
+        std::complex<double> unused;
+        backward_error(p.lambda, p.phi, m_phi, &r[k], &unused);
+        // s = (conj(lambda)^2 M + conj(lambda) C^T + K^T) y
+        const ComplexVector        y = reduced.expand(dense[k]->w);
+        const std::complex<double> l = std::conj(p.lambda);
+        ComplexVector              my, cy;
+        replicated_vmult(matrices.mass, y, my);
+        replicated_vmult(damping, y, cy, true);
+        replicated_vmult(tangent, y, s[k], true);
+        axpy(l * l, my, s[k]);
+        axpy(l, cy, s[k]);
+        // y^H Q'(lambda) phi = y^H (2 lambda M phi + C phi)
+        replicated_vmult(damping, p.phi, c_phi);
+        denominator[k] =
+          std::abs(2. * p.lambda * dot(y, m_phi) + dot(y, c_phi)) * std::abs(p.lambda);
+        for (const auto *v : {&r[k].re, &r[k].im, &s[k].re, &s[k].im})
+          rhs.push_back(v);
+      }
+    std::vector<Vector<double>> t;
+    replicated_solve(eigensolver.linear_solver(), matrices.mass, rhs, t);
+    std::vector<double> estimate(modes.size());
+    for (std::size_t k = 0; k < modes.size(); ++k)
+      {
+        const ComplexVector tr{t[4 * k], t[4 * k + 1]}, ts{t[4 * k + 2], t[4 * k + 3]};
+        const double        norm_r = std::sqrt(std::abs(dot(r[k], tr)));
+        const double        norm_s = std::sqrt(std::abs(dot(s[k], ts)));
+        estimate[k] = denominator[k] > 0 ? norm_r * norm_s / denominator[k] :
+                                           std::numeric_limits<double>::infinity();
+      }
+    return estimate;
+  }
+
+  PrestressedEigenproblem::SpeedOperators
+  PrestressedEigenproblem::operators()
+  {
+    // the factorisation of the latest full solve serves the response's
+    // basis (it checks its residual on this speed's matrices); a new one
+    // only if there is none
+    if (!eigensolver.linear_solver().factorized())
+      {
+        TimerOutput::Scope t(timer, "eigen: factorisation + ARPACK");
+        eigensolver.factorize(matrices.mass, damping, tangent, shifted);
+      }
+    return {matrices.mass, damping, tangent, eigensolver.linear_solver(), last_rpm};
+  }
+
+  void
+  PrestressedEigenproblem::add_anchor(const double rpm, const std::vector<EigenPair> &pairs)
+  {
+    // the full solve found every eigenvalue within this distance of the
+    // shift (ARPACK's nev nearest, all converged or the speed failed)
+    const double       sigma  = eigensolver.shift();
+    double             radius = 0;
+    unsigned int       vectors = 0;
+    for (const auto &p : pairs)
+      if (p.backward_error <= eigensolver.backward_error_limit())
+        {
+          radius = std::max(radius, std::abs(p.lambda - sigma));
+          vectors += p.lambda.imag() != 0 ? 2 : 1;
+        }
+    if (reduced.size() + vectors > reduced.capacity(vectors))
+      reduced.clear();
+    for (const auto &p : pairs)
+      if (p.backward_error <= eigensolver.backward_error_limit())
+        {
+          reduced.add(p.phi.re, matrices.mass);
+          if (p.lambda.imag() != 0)
+            reduced.add(p.phi.im, matrices.mass);
+        }
+    reduced.anchors.push_back({rpm, radius});
+  }
+
+  void
+  PrestressedEigenproblem::update_projections(const StaticState &state)
+  {
+    const unsigned int v = reduced.version();
+    const unsigned int m = reduced.size();
+    if (!(key_basis == ProjectionKey{v, 0, -1}))
+      {
+        p_mass    = reduced.project(matrices.mass);
+        p_gyro    = reduced.project(matrices.gyroscopic);
+        key_basis = {v, 0, -1};
+      }
+    // K_t = K_t0 + w K_t2 on an active set's affine law (doc/theory.md B):
+    // one projection per segment; otherwise (spin softening, bearing
+    // coefficients that change with speed) one per speed
+    const bool affine  = state.decomposition().affine || stiffening == StressStiffening::off;
+    const bool per_rpm = !affine || bearings.speed_dependent();
+    const ProjectionKey tangent_key{v, stiffening == StressStiffening::off ? 0 : k_sigma_serial,
+                                    per_rpm ? state.rpm : -1};
+    if (!(key_tangent == tangent_key))
+      {
+        p_tangent2.reinit(m, m);
+        if (stiffening == StressStiffening::full && state.decomposition().affine)
+          {
+            p_tangent2 = reduced.project(k_sigma_C);
+            if (convective_term)
+              p_tangent2.add(-1., reduced.project(matrices.convective));
+          }
+        p_tangent0 = reduced.project(tangent);
+        p_tangent0.add(-state.w(), p_tangent2);
+        key_tangent = tangent_key;
+      }
+    const ProjectionKey bearing_key{v, 0, bearings.speed_dependent() ? state.rpm : -1};
+    if (!(key_bearing == bearing_key))
+      {
+        p_bearing_c = reduced.project(bearing_c);
+        key_bearing = bearing_key;
+      }
+  }
+
+  bool
+  PrestressedEigenproblem::solve_reduced(const StaticState       &state,
+                                         const std::vector<bool> &loose_body,
+                                         const unsigned int       nev,
+                                         EigenSolution           &solution,
+                                         std::string             &why)
+  {
+    if (reduced.size() == 0)
+      return false;
+    const auto t0      = std::chrono::steady_clock::now();
+    const auto elapsed = [&t0]() {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    };
+    const double omega = SpeedSchedule::rpm_to_rad_per_s(state.rpm);
+    const double sigma = eigensolver.shift();
+    update_projections(state);
+    const double t_projections = elapsed();
+    FullMatrix<double> Kr(p_tangent0), Cr(p_bearing_c);
+    Kr.add(state.w(), p_tangent2);
+    Cr.add(omega, p_gyro);
+    std::vector<ReducedBasis::Pair> all;
+    const bool solved = reduced.solve(p_mass, Cr, Kr, all);
+    if (Utilities::MPI::min(solved ? 1 : 0, comm) == 0)
+      {
+        why = "LAPACK dgeev failed on the projected problem";
+        return false;
+      }
+    broadcast(all, reduced.size(), comm);
+    std::sort(all.begin(), all.end(), [sigma](const auto &a, const auto &b) {
+      return std::abs(a.lambda - sigma) < std::abs(b.lambda - sigma);
+    });
+
+    // the nev eigenvalues nearest the shift, conjugates counted twice, as
+    // the full solve picks them
+    const BackwardError    backward_error(matrices.mass, damping, tangent);
+    std::vector<EigenPair> pairs;
+    double                 radius = 0;
+    for (unsigned int count = 0, k = 0; count < nev && k < all.size(); ++k)
+      {
+        EigenPair p;
+        p.lambda = all[k].lambda;
+        p.phi    = reduced.expand(all[k].y);
+        const double scale = std::sqrt(p.phi.re.norm_sqr() + p.phi.im.norm_sqr());
+        if (!(scale > 0))
+          continue;
+        p.phi.re /= scale;
+        p.phi.im /= scale;
+        p.backward_error = backward_error(p.lambda, p.phi, p.m_phi);
+        radius = std::max(radius, std::abs(p.lambda - sigma));
+        count += p.lambda.imag() != 0 ? 2 : 1;
+        p.error_estimate = k; // where it came from, until sorted
+        pairs.push_back(std::move(p));
+      }
+
+    // a mode outside the basis (beyond the anchor's radius) moves at most
+    // slope x |Omega - Omega_anchor| in the complex plane
+    double reach = std::numeric_limits<double>::infinity(), anchor_rpm = 0, anchor_radius = 0;
+    for (const auto &a : reduced.anchors)
+      {
+        const double d = reduced.slope_bound() *
+                         std::abs(omega - SpeedSchedule::rpm_to_rad_per_s(a.rpm));
+        if (radius + d - a.radius < reach)
+          reach = radius + d - a.radius, anchor_rpm = a.rpm, anchor_radius = a.radius;
+      }
+    std::ostringstream reason;
+    if (!(reach < 0))
+      reason << "the modes kept reach " << std::setprecision(4) << radius / (2 * M_PI)
+             << " Hz from the shift; a mode outside the basis may have moved "
+             << (reach - radius + anchor_radius) / (2 * M_PI) << " Hz since the anchor at "
+             << anchor_rpm << " r/min, whose solve covered " << anchor_radius / (2 * M_PI)
+             << " Hz";
+
+    // the backward error as for a full solve, then the wanted modes'
+    // eigenvalue error estimate against the tolerance
+    std::sort(pairs.begin(), pairs.end(), [](const EigenPair &a, const EigenPair &b) {
+      return std::abs(a.lambda) < std::abs(b.lambda);
+    });
+    unsigned int unconverged = 0;
+    double       worst       = 0, worst_estimate = 0;
+    const bool   sorted = sort_eigenpairs(pairs, loose_body, solution, unconverged, worst);
+    const double t_modes = elapsed();
+    if (reason.str().empty() && sorted)
+      {
+        std::vector<const EigenPair *>          wanted;
+        std::vector<const ReducedBasis::Pair *> dense;
+        for (unsigned int i = 0; i < std::min<std::size_t>(n_wanted, solution.elastic.size()); ++i)
+          {
+            wanted.push_back(&solution.elastic[i]);
+            dense.push_back(&all[static_cast<std::size_t>(solution.elastic[i].error_estimate)]);
+          }
+        const std::vector<double> estimate = error_estimates(backward_error, wanted, dense);
+        for (unsigned int i = 0; i < solution.elastic.size(); ++i)
+          {
+            // (beyond the wanted modes: no estimate, and they are dropped)
+            solution.elastic[i].error_estimate = i < wanted.size() ? estimate[i] : 0.;
+            if (i < wanted.size())
+              worst_estimate = std::max(worst_estimate, estimate[i]);
+          }
+      }
+    const double t_estimate = elapsed();
+    if (reason.str().empty() && !sorted)
+      reason << unconverged << " mode(s) above the Backward error limit (worst "
+             << std::setprecision(3) << worst << "), " << solution.elastic.size() << " of "
+             << n_wanted << " elastic modes";
+    if (reason.str().empty() && !(worst_estimate <= reduced.tolerance()))
+      reason << "estimated eigenvalue error " << std::setprecision(3) << worst_estimate
+             << " above the Reduced tolerance " << reduced.tolerance();
+    why = reason.str();
+    if (!why.empty())
+      return false;
+
+    reduced_worst        = std::max(reduced_worst, worst_estimate);
+    worst_backward_error = std::max(worst_backward_error, worst);
+    std::ostringstream line;
+    line << "  eigen (reduced, basis " << reduced.size() << " from anchors at";
+    for (const auto &a : reduced.anchors)
+      line << ' ' << a.rpm;
+    line << " r/min): " << std::min<std::size_t>(n_wanted, solution.elastic.size())
+         << " whirl modes " << std::setprecision(5)
+         << solution.elastic.front().lambda.imag() / (2 * M_PI) << " .. "
+         << solution.elastic[std::min<std::size_t>(n_wanted, solution.elastic.size()) - 1]
+                .lambda.imag() /
+              (2 * M_PI)
+         << " Hz, max backward error " << std::setprecision(2) << worst
+         << ", max estimated error " << worst_estimate << "; " << std::setprecision(3)
+         << elapsed() << " s (" << t_projections << " s projections, " << t_modes - t_projections
+         << " s dense solve + residuals, " << t_estimate - t_modes << " s estimates)\n";
+    log << line.str();
+    return true;
+  }
+} // namespace rotorfit

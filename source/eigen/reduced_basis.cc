@@ -1,0 +1,229 @@
+#include <rotorfit/base/patterns.h>
+#include <rotorfit/eigen/reduced_basis.h>
+
+#include <deal.II/base/mpi.h>
+
+#include <deal.II/lac/lapack_full_matrix.h>
+
+#include <algorithm>
+#include <cmath>
+
+extern "C"
+{
+  // Fortran BLAS / LAPACK (OpenBLAS at run time): the reduced model is dense
+  void
+  dgemv_(const char *, const int *, const int *, const double *, const double *, const int *,
+         const double *, const int *, const double *, double *, const int *);
+  void
+  dgemm_(const char *, const char *, const int *, const int *, const int *, const double *,
+         const double *, const int *, const double *, const int *, const double *, double *,
+         const int *);
+  void
+  dgeev_(const char *, const char *, const int *, double *, const int *, double *, double *,
+         double *, const int *, double *, const int *, double *, const int *, int *);
+}
+
+namespace rotorfit
+{
+  using namespace dealii;
+
+  void
+  ReducedBasis::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Eigenproblem");
+    prm.declare_entry("Reduced model",
+                      "true",
+                      Patterns::Bool(),
+                      "Solve speeds on a reduced model built from full solves at "
+                      "anchor speeds (doc/theory.md 8.6); every reduced mode is "
+                      "checked on the full matrices and a speed that fails the "
+                      "check is solved in full. false: the full solve at every "
+                      "speed.");
+    prm.declare_entry("Reduced tolerance",
+                      "1e-7",
+                      patterns::Positive(),
+                      "Estimated relative eigenvalue error |d lambda| / |lambda| "
+                      "every wanted mode of a reduced solve must meet, from its "
+                      "right and left residuals on the full matrices (doc/theory.md "
+                      "8.6); damping ratios are then good to this absolute. A speed "
+                      "whose modes miss it is solved in full and becomes an anchor [-].");
+    prm.declare_entry("Reduced margin modes",
+                      "6",
+                      Patterns::Integer(1),
+                      "Whirl pairs an anchor solves beyond the Number of modes: the "
+                      "basis then covers the modes that can move into the wanted "
+                      "range between anchors.");
+    prm.declare_entry("Reduced slope bound",
+                      "2",
+                      patterns::Positive(),
+                      "Largest |d omega / d Omega| assumed for any line, also those "
+                      "above the basis [-]: a reduced solve is refused where a mode "
+                      "outside the basis could have moved into the wanted range since "
+                      "the nearest anchor (2 covers gyroscopic lateral modes, Ip / Id "
+                      "<= 2; an n-diameter disc mode moves n times the spin).");
+    prm.leave_subsection();
+  }
+
+  void
+  ReducedBasis::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Eigenproblem");
+    use                = prm.get_bool("Reduced model");
+    max_error = prm.get_double("Reduced tolerance");
+    extra_modes        = prm.get_integer("Reduced margin modes");
+    max_slope          = prm.get_double("Reduced slope bound");
+    prm.leave_subsection();
+  }
+
+  void
+  ReducedBasis::clear()
+  {
+    basis.clear();
+    anchors.clear();
+    ++serial;
+  }
+
+  bool
+  ReducedBasis::add(const Vector<double> &x, const PETScWrappers::MPI::SparseMatrix &M)
+  {
+    Vector<double> v = x, mv;
+    replicated_vmult(M, v, mv);
+    const double first = std::sqrt(std::max(0., v * mv));
+    if (!(first > 0))
+      return false;
+    // classical Gram-Schmidt twice in the M inner product (V is M-orthonormal)
+    const int    n = v.size(), m = basis.size(), one = 1;
+    const double plus = 1, minus = -1, zero = 0;
+    std::vector<double> flat, c(m);
+    if (m > 0)
+      {
+        flat.resize(static_cast<std::size_t>(n) * m);
+        for (int j = 0; j < m; ++j)
+          std::copy(basis[j].begin(), basis[j].end(), flat.begin() + std::size_t(j) * n);
+      }
+    for (unsigned int pass = 0; pass < 2 && m > 0; ++pass)
+      {
+        dgemv_("T", &n, &m, &plus, flat.data(), &n, mv.data(), &one, &zero, c.data(), &one);
+        dgemv_("N", &n, &m, &minus, flat.data(), &n, c.data(), &one, &plus, v.data(), &one);
+        replicated_vmult(M, v, mv);
+      }
+    const double norm = std::sqrt(std::max(0., v * mv));
+    // one decision for all ranks (their bases must stay the same size)
+    if (Utilities::MPI::min(norm > 1e-10 * first ? 1 : 0, M.get_mpi_communicator()) == 0)
+      return false;
+    v /= norm;
+    basis.push_back(std::move(v));
+    ++serial;
+    return true;
+  }
+
+  FullMatrix<double>
+  ReducedBasis::project(const PETScWrappers::MPI::SparseMatrix &A) const
+  {
+    const int m = basis.size();
+    FullMatrix<double> P(m, m);
+    if (m == 0)
+      return P;
+    const int           n = basis[0].size();
+    std::vector<double> flat(static_cast<std::size_t>(n) * m), av(flat.size());
+    Vector<double>      y;
+    for (int j = 0; j < m; ++j)
+      {
+        std::copy(basis[j].begin(), basis[j].end(), flat.begin() + std::size_t(j) * n);
+        replicated_vmult(A, basis[j], y);
+        std::copy(y.begin(), y.end(), av.begin() + std::size_t(j) * n);
+      }
+    std::vector<double> p(static_cast<std::size_t>(m) * m);
+    const double        one = 1, zero = 0;
+    dgemm_("T", "N", &m, &m, &n, &one, flat.data(), &n, av.data(), &n, &zero, p.data(), &m);
+    for (int i = 0; i < m; ++i)
+      for (int j = 0; j < m; ++j)
+        P(i, j) = p[i + std::size_t(j) * m];
+    return P;
+  }
+
+  bool
+  ReducedBasis::solve(const FullMatrix<double> &Mr,
+                      const FullMatrix<double> &Cr,
+                      const FullMatrix<double> &Kr,
+                      std::vector<Pair>        &pairs) const
+  {
+    // first companion form with Mr^-1 applied: z = (y, lambda y),
+    // [0 I; -Mr^-1 Kr  -Mr^-1 Cr] z = lambda z
+    const int m = Mr.m(), n2 = 2 * m;
+    pairs.clear();
+    if (m == 0)
+      return true;
+    LAPACKFullMatrix<double> inverse(m, m);
+    inverse = Mr;
+    inverse.invert();
+    FullMatrix<double> mk(m, m), mc(m, m), mi(m, m);
+    for (int i = 0; i < m; ++i)
+      for (int j = 0; j < m; ++j)
+        mi(i, j) = inverse(i, j);
+    mi.mmult(mk, Kr);
+    mi.mmult(mc, Cr);
+    std::vector<double> a(static_cast<std::size_t>(n2) * n2, 0.); // column-major
+    const auto at = [&](int i, int j) -> double & { return a[i + std::size_t(j) * n2]; };
+    for (int i = 0; i < m; ++i)
+      {
+        at(i, m + i) = 1;
+        for (int j = 0; j < m; ++j)
+          {
+            at(m + i, j)     = -mk(i, j);
+            at(m + i, m + j) = -mc(i, j);
+          }
+      }
+    std::vector<double> wr(n2), wi(n2), vr(static_cast<std::size_t>(n2) * n2), vl(vr.size()),
+      work(1);
+    int lwork = -1, info = 0;
+    dgeev_("V", "V", &n2, a.data(), &n2, wr.data(), wi.data(), vl.data(), &n2, vr.data(), &n2,
+           work.data(), &lwork, &info);
+    lwork = static_cast<int>(work[0]);
+    work.resize(std::max(1, lwork));
+    dgeev_("V", "V", &n2, a.data(), &n2, wr.data(), wi.data(), vl.data(), &n2, vr.data(), &n2,
+           work.data(), &lwork, &info);
+    if (info != 0)
+      return false;
+    for (int j = 0; j < n2; ++j)
+      {
+        if (!std::isfinite(wr[j]) || !std::isfinite(wi[j]))
+          return false;
+        Pair p;
+        p.lambda = {wr[j], wi[j]};
+        p.y.resize(m);
+        std::vector<std::complex<double>> b(m); // second block of the left vector
+        const bool complex_pair = wi[j] != 0;
+        // LAPACK: columns j, j + 1 hold Re and Im of the Im > 0 member
+        for (int i = 0; i < m; ++i)
+          {
+            const std::size_t re = i + std::size_t(j) * n2, im = re + n2;
+            p.y[i] = complex_pair ? std::complex<double>(vr[re], vr[im]) : vr[re];
+            const std::size_t lre = m + re, lim = m + im;
+            b[i] = complex_pair ? std::complex<double>(vl[lre], vl[lim]) : vl[lre];
+          }
+        // u^H A = lambda u^H with u = (a, b) gives b^H Mr^-1 Q_r(lambda) = 0
+        p.w.assign(m, 0.);
+        for (int i = 0; i < m; ++i)
+          for (int k = 0; k < m; ++k)
+            p.w[i] += mi(k, i) * b[k];
+        if (complex_pair)
+          ++j;
+        pairs.push_back(std::move(p));
+      }
+    return true;
+  }
+
+  ComplexVector
+  ReducedBasis::expand(const std::vector<std::complex<double>> &y) const
+  {
+    const std::size_t n = basis.empty() ? 0 : basis[0].size();
+    ComplexVector     phi{Vector<double>(n), Vector<double>(n)};
+    for (std::size_t j = 0; j < basis.size(); ++j)
+      {
+        phi.re.add(y[j].real(), basis[j]);
+        phi.im.add(y[j].imag(), basis[j]);
+      }
+    return phi;
+  }
+} // namespace rotorfit
