@@ -1,3 +1,4 @@
+#include <rotorfit/linear_algebra/blas.h>
 #include <rotorfit/contact/contact_solver.h>
 
 #include <deal.II/base/mpi.h>
@@ -16,20 +17,6 @@
 // costs a rank-one update of the pair-space inverse per changed pair and no
 // sparse solve; the displacement is made only at the requested speeds.
 
-extern "C"
-{
-  // Fortran BLAS (OpenBLAS at run time): the pair-space algebra is dense
-  void
-  dgemv_(const char *, const int *, const int *, const double *, const double *, const int *,
-         const double *, const int *, const double *, double *, const int *);
-  void
-  dger_(const int *, const int *, const double *, const double *, const int *, const double *,
-        const int *, double *, const int *);
-  void
-  dgemm_(const char *, const char *, const int *, const int *, const int *, const double *,
-         const double *, const int *, const double *, const int *, const double *, double *,
-         const int *);
-}
 
 namespace rotorfit
 {

@@ -242,7 +242,6 @@ namespace rotorfit
         p.backward_error = backward_error(p.lambda, p.phi, p.m_phi);
         radius = std::max(radius, std::abs(p.lambda - sigma));
         count += p.lambda.imag() != 0 ? 2 : 1;
-        p.error_estimate = k; // where it came from, until sorted
         pairs.push_back(std::move(p));
       }
 
@@ -279,8 +278,11 @@ namespace rotorfit
         std::vector<const ReducedBasis::Pair *> dense;
         for (unsigned int i = 0; i < std::min<std::size_t>(n_wanted, solution.elastic.size()); ++i)
           {
+            // its dense pair: the eigenvalue was copied from it unchanged
             wanted.push_back(&solution.elastic[i]);
-            dense.push_back(&all[static_cast<std::size_t>(solution.elastic[i].error_estimate)]);
+            dense.push_back(&*std::find_if(all.begin(), all.end(), [&](const auto &d) {
+              return d.lambda == solution.elastic[i].lambda;
+            }));
           }
         const std::vector<double> estimate = error_estimates(backward_error, wanted, dense);
         for (unsigned int i = 0; i < solution.elastic.size(); ++i)

@@ -1,3 +1,4 @@
+#include <rotorfit/linear_algebra/blas.h>
 #include <rotorfit/base/patterns.h>
 #include <rotorfit/eigen/reduced_basis.h>
 
@@ -7,21 +8,6 @@
 
 #include <algorithm>
 #include <cmath>
-
-extern "C"
-{
-  // Fortran BLAS / LAPACK (OpenBLAS at run time): the reduced model is dense
-  void
-  dgemv_(const char *, const int *, const int *, const double *, const double *, const int *,
-         const double *, const int *, const double *, double *, const int *);
-  void
-  dgemm_(const char *, const char *, const int *, const int *, const int *, const double *,
-         const double *, const int *, const double *, const int *, const double *, double *,
-         const int *);
-  void
-  dgeev_(const char *, const char *, const int *, double *, const int *, double *, double *,
-         double *, const int *, double *, const int *, double *, const int *, int *);
-}
 
 namespace rotorfit
 {
