@@ -32,6 +32,7 @@ import csv
 import math
 import os
 import re
+import shutil
 import statistics
 import subprocess
 import sys
@@ -331,6 +332,11 @@ def main():
         speeds = [a + k * c for k in range(int(round((b - a) / c)) + 1)]
     else:
         speeds = [float(v) for v in args.speeds.split(",")]
+    for tool, package in (("gmsh", "gmsh"), (args.ccx, "calculix-ccx")):
+        if shutil.which(tool) is None:
+            die("'%s' not found: apt-get install -y %s" % (tool, package))
+    if not os.access(args.rotorfit, os.X_OK):
+        die("no rotorfit at %s (build it, or give --rotorfit)" % args.rotorfit)
     os.makedirs(args.work, exist_ok=True)
     work = os.path.abspath(args.work)
     prm = os.path.join(ROOT, "prm", "test_shaft.prm")

@@ -62,12 +62,17 @@ namespace rotorfit
 
     if (reduced.enabled())
       {
-        // a contact segment (tied set) of its own starts a new basis
+        // a contact segment (tied set) of its own starts a new basis; one
+        // that follows another change at once (a fit opening gradually) is
+        // likely to be left at the next speed: its anchor skips the margin
         if (solution.tied != basis_tied)
           {
+            margin_pays = basis_tied.empty();
             reduced.clear();
             basis_tied = solution.tied;
           }
+        else
+          margin_pays = true;
         std::string why;
         bool        done = false;
         {
@@ -91,7 +96,8 @@ namespace rotorfit
                 << "): full solve, a new anchor\n";
           }
         // the anchor's margin: modes that may move into the wanted range
-        nev = std::min<unsigned int>(nev + 2 * reduced.margin(), 2 * model.dofs().n_dofs() - 3);
+        if (margin_pays)
+          nev = std::min<unsigned int>(nev + 2 * reduced.margin(), 2 * model.dofs().n_dofs() - 3);
       }
 
     unsigned int                  unconverged = 0;

@@ -38,7 +38,9 @@ namespace rotorfit
                       Patterns::Integer(1),
                       "Whirl pairs an anchor solves beyond the Number of modes: the "
                       "basis then covers the modes that can move into the wanted "
-                      "range between anchors.");
+                      "range between anchors. Not asked where the tied pairs differ "
+                      "from the previous solve's (in a fit opening step by step such "
+                      "a basis serves no second speed).");
     prm.declare_entry("Reduced slope bound",
                       "2",
                       patterns::Positive(),
