@@ -100,8 +100,9 @@ def read_msh22(path):
     return nodes, names, elements
 
 
-# CalculiX reads at most 20 characters a number and 132 a line (%.13g), and
-# a real without "." or "e" as zero or not at all (%.13e).
+# CalculiX reads at most 20 characters a number and 132 a line (%.13g);
+# material, spring and load values are written with an exponent (%.13e):
+# "10000000" as a spring constant gave "*SPRING card without data".
 # gmsh tet10 -> Abaqus/CalculiX C3D10: the last two mid-edge nodes swap
 TET10 = [0, 1, 2, 3, 4, 5, 6, 7, 9, 8]
 
@@ -367,7 +368,8 @@ def main():
         ccx[rpm] = (statistics.median(walls), max(mems),
                     read_ccx_complex(os.path.join(work, job + ".dat")))
         print("CalculiX %6.0f r/min: %.1f s (median of %d), %.2f GB" %
-              (rpm, ccx[rpm][0], args.runs, ccx[rpm][1]))
+              (rpm, ccx[rpm][0], 0 if args.reuse else args.runs,
+               ccx[rpm][1]))
 
     # rotorfit on the same mesh and speeds, bearing dampers off
     common = ["--set", "Geometry/Geometry file=" + msh,
@@ -387,11 +389,29 @@ def main():
     for rpm in speeds:
         spin = rpm / 60
         cf = ccx[rpm][2]
-        for k, (whirl, f, fit) in enumerate(rf[rpm]):
-            target, turn = rotating(whirl, f, spin)
-            # nearest CalculiX mode that turns the same way
-            same = [c for c in cf if turn == "?" or c[1] == turn] or cf
-            near, near_turn = min(same, key=lambda c: abs(c[0] - target))
+        if rpm == 0:
+            # at rest CalculiX's complex step is degenerate (it lists a
+            # bending pair once): its real modes are the reference there
+            cf = [(f, "?") for f in read_ccx_real(
+                os.path.join(work, "ts_%05d.dat" % rpm))]
+        # one to one: the closest (rotorfit, CalculiX) couples first, a
+        # CalculiX mode of the other turning direction never
+        want = [(k, whirl, f, fit) + rotating(whirl, f, spin)
+                for k, (whirl, f, fit) in enumerate(rf[rpm])]
+        couples = sorted(
+            (abs(c[0] - w[4]) / w[2], w[0], j)
+            for w in want for j, c in enumerate(cf)
+            if w[5] == "?" or c[1] == "?" or c[1] == w[5])
+        taken, used = {}, set()
+        for d, k, j in couples:
+            if k not in taken and j not in used:
+                taken[k] = j
+                used.add(j)
+        for k, whirl, f, fit, target, turn in want:
+            if k not in taken:
+                die("%g r/min: no CalculiX mode left for rotorfit's mode %d"
+                    % (rpm, k + 1))
+            near, near_turn = cf[taken[k]]
             rows.append((rpm, fit, k + 1, whirl, f, target, turn, near,
                          near_turn, (near - target) / f))
     with open(os.path.join(work, "calculix_ts.csv"), "w") as f:

@@ -62,9 +62,9 @@ namespace rotorfit
 
     if (reduced.enabled())
       {
-        // a contact segment (tied set) of its own starts a new basis; one
-        // that follows another change at once (a fit opening gradually) is
-        // likely to be left at the next speed: its anchor skips the margin
+        // a contact segment (tied set) of its own starts a new basis; after
+        // the first speed, a changed set is likely to change again at the
+        // next speed (a fit opening gradually): its anchor skips the margin
         if (solution.tied != basis_tied)
           {
             margin_pays = basis_tied.empty();
