@@ -291,8 +291,11 @@ def read_campbell(path):
     rows = list(csv.DictReader(open(path)))
     out = {}
     for r in rows:
+        # a speed rotorfit flags unconverged is not compared as if it were
+        fit = r["fit_state"] if r["static_converged"] == "1" else \
+            "unconverged"
         out.setdefault(float(r["speed_rpm"]), []).append(
-            (r["whirl"], float(r["frequency_hz"]), r["fit_state"]))
+            (r["whirl"], float(r["frequency_hz"]), fit))
     return out
 
 
@@ -328,11 +331,21 @@ def main():
                     help="read the .dat files of an earlier run, time "
                     "nothing of CalculiX")
     args = ap.parse_args()
-    if ":" in args.speeds:
-        a, b, c = (float(v) for v in args.speeds.split(":"))
-        speeds = [a + k * c for k in range(int(round((b - a) / c)) + 1)]
-    else:
-        speeds = [float(v) for v in args.speeds.split(",")]
+    try:
+        if ":" in args.speeds:
+            a, b, c = (float(v) for v in args.speeds.split(":"))
+            if c <= 0 or b < a:
+                raise ValueError
+            speeds = [a + k * c for k in range(int(round((b - a) / c)) + 1)]
+        else:
+            speeds = [float(v) for v in args.speeds.split(",")]
+    except ValueError:
+        die("--speeds '%s': give r/min as a,b,c or start:end:step "
+            "(step > 0, end >= start)" % args.speeds)
+    if min(speeds) < 0 or any(y <= x for x, y in zip(speeds, speeds[1:])):
+        die("--speeds '%s': speeds must be >= 0 and increasing" % args.speeds)
+    if args.runs < 1 or args.threads < 1:
+        die("--runs and --threads must be at least 1")
     for tool, package in (("gmsh", "gmsh"), (args.ccx, "calculix-ccx")):
         if shutil.which(tool) is None:
             die("'%s' not found: apt-get install -y %s" % (tool, package))
@@ -374,12 +387,18 @@ def main():
     # rotorfit on the same mesh and speeds, bearing dampers off
     common = ["--set", "Geometry/Geometry file=" + msh,
               "--set", "Geometry/Geometry parameters="]
+
+    def undamped(out, speed_list, *extra):
+        cmd = [rotorfit, prm, "--output", out] + common + [
+            "--set", "Speeds/Mode=list", "--set", "Speeds/List=" +
+            ", ".join("%g" % v for v in speed_list)] + list(extra)
+        for b in ("left", "right"):
+            cmd += ["--set", "Bearing %s/cxx=0" % b,
+                    "--set", "Bearing %s/cyy=0" % b]
+        return cmd
+
     out = os.path.join(work, "rotorfit_same")
-    cmd = [rotorfit, prm, "--output", out] + common + [
-        "--set", "Speeds/Mode=list",
-        "--set", "Speeds/List=" + ", ".join("%g" % s for s in speeds)]
-    for b in ("left", "right"):
-        cmd += ["--set", "Bearing %s/cxx=0" % b, "--set", "Bearing %s/cyy=0" % b]
+    cmd = undamped(out, speeds)
     wall, mem = timed(cmd, ROOT, os.path.join(work, "rotorfit_same.log"))
     print("rotorfit, the same %d speeds: %.1f s, %.2f GB" %
           (len(speeds), wall, mem))
@@ -426,12 +445,8 @@ def main():
     rest = []
     if 0.0 in ccx:
         out = os.path.join(work, "rotorfit_rest")
-        cmd = [rotorfit, prm, "--output", out] + common + [
-            "--set", "Speeds/Mode=list", "--set", "Speeds/List=0",
-            "--set", "Eigenproblem/Stress stiffening=off"]
-        for b in ("left", "right"):
-            cmd += ["--set", "Bearing %s/cxx=0" % b,
-                    "--set", "Bearing %s/cyy=0" % b]
+        cmd = undamped(out, [0], "--set",
+                       "Eigenproblem/Stress stiffening=off")
         timed(cmd, ROOT, os.path.join(work, "rotorfit_rest.log"))
         mine = sorted(f for w, f, fit in read_campbell(
             os.path.join(out, "campbell.csv"))[0.0])

@@ -65,14 +65,12 @@ namespace rotorfit
         // a contact segment (tied set) of its own starts a new basis; after
         // the first speed, a changed set is likely to change again at the
         // next speed (a fit opening gradually): its anchor skips the margin
+        const bool margin_pays = solution.tied == basis_tied || basis_tied.empty();
         if (solution.tied != basis_tied)
           {
-            margin_pays = basis_tied.empty();
             reduced.clear();
             basis_tied = solution.tied;
           }
-        else
-          margin_pays = true;
         std::string why;
         bool        done = false;
         {

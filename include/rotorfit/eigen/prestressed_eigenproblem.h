@@ -198,10 +198,6 @@ namespace rotorfit
     ReducedBasis                   reduced;
     /// the tied pairs the basis was built for (a change starts a new basis)
     std::vector<bool> basis_tied;
-    /// whether a full solve here asks for Reduced margin modes: not at a
-    /// speed whose tied set differs from the previous one's (its basis
-    /// would rarely serve a second speed)
-    bool margin_pays = true;
     /// V^T X V of M, G, the tangent at w = 0 and its d/dw, bearing damping
     dealii::FullMatrix<double> p_mass, p_gyro, p_tangent0, p_tangent2, p_bearing_c;
     /// what the projections were made for
