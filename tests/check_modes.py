@@ -833,6 +833,32 @@ def check_reduced(exe, prm, out, freq_tol, zeta_tol, *sets):
               f"{y['speed_rpm']} r/min ({d_rpm:.2e}), frequency {d_f:.2e}, damping {d_z:.2e}, "
               f"solved {x['solved']}/{y['solved']}", "ok" if good else "FAILED")
         ok &= good
+    if os.path.exists(os.path.join(full, "response.csv")):
+        # the unbalance response on the reduced model's basis against the one
+        # on the speed's modes: complex amplitudes within 1e-6 of the speed's
+        # largest (both meet a residual of 1e-8)
+        ra, rb = rows(red, "response.csv"), rows(full, "response.csv")
+        good = len(ra) == len(rb) and all(x["converged"] == y["converged"] == "1"
+                                          for x, y in zip(ra, rb))
+        print(f"response.csv rows: {len(ra)} reduced, {len(rb)} full, all converged",
+              "ok" if good else "FAILED")
+        ok &= good
+        amp = lambda r, c: cmath.rect(float(r[f"amplitude_{c}_m"]),
+                                      -math.radians(float(r[f"phase_{c}_deg"])))
+        largest, worst = {}, 0.0
+        for y in rb:
+            largest[y["speed_rpm"]] = max(largest.get(y["speed_rpm"], 0.0),
+                                          abs(amp(y, "x")), abs(amp(y, "y")))
+        for x, y in zip(ra, rb):
+            if largest[y["speed_rpm"]] > 0:
+                worst = max(worst, *(abs(amp(x, c) - amp(y, c)) / largest[y["speed_rpm"]]
+                                     for c in "xy"))
+        served = summary_number(red, "response.reduced_speeds")
+        good = worst <= 1e-6 and served is not None and served > 0
+        print(f"response: largest complex amplitude difference {worst:.3e} of the speed's "
+              f"largest (tolerance 1e-6); speeds solved on the reduced basis: {served}",
+              "ok" if good else "FAILED")
+        ok &= good
     oa, ob = rows(red, "stability_onsets.csv"), rows(full, "stability_onsets.csv")
     good = len(oa) == len(ob)
     print(f"stability onsets: {len(oa)} reduced, {len(ob)} full", "ok" if good else "FAILED")

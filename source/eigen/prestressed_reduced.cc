@@ -124,7 +124,44 @@ namespace rotorfit
         TimerOutput::Scope t(timer, "eigen: factorisation + ARPACK");
         eigensolver.factorize(matrices.mass, damping, tangent, shifted);
       }
-    return {matrices.mass, damping, tangent, eigensolver.linear_solver(), last_rpm};
+    SpeedOperators op{matrices.mass, damping, tangent, eigensolver.linear_solver(), last_rpm};
+    if (speed_reduced)
+      {
+        op.basis = &reduced;
+        op.Mr    = &p_mass;
+        op.Cr    = &speed_Cr;
+        op.Kr    = &speed_Kr;
+        const bool products = keep_products && !av_mass.empty();
+        if (products)
+          op.products = [this](const std::vector<std::complex<double>> &y,
+                               ComplexVector                           &Mu,
+                               ComplexVector                           &Cu,
+                               ComplexVector                           &Ku) {
+            const std::size_t n     = matrices.mass.m();
+            const double      omega = std::sqrt(speed_w);
+            for (auto *z : {&Mu, &Cu, &Ku})
+              *z = {Vector<double>(n), Vector<double>(n)};
+            reduced.apply(av_mass, y, 1., Mu);
+            reduced.apply(av_bearing_c, y, 1., Cu);
+            reduced.apply(av_gyro, y, omega, Cu);
+            reduced.apply(av_tangent, y, 1., Ku);
+            reduced.apply(av_tangent2, y, speed_w - w_tangent, Ku);
+          };
+        if (products)
+          op.row_products = [this](const Vector<double> &x,
+                                   std::vector<double>  &m_row,
+                                   std::vector<double>  &c_row,
+                                   std::vector<double>  &k_row) {
+            for (auto *c : {&m_row, &c_row, &k_row})
+              c->clear();
+            reduced.apply_transpose(av_mass, x, 1., m_row);
+            reduced.apply_transpose(av_bearing_c, x, 1., c_row);
+            reduced.apply_transpose(av_gyro, x, std::sqrt(speed_w), c_row);
+            reduced.apply_transpose(av_tangent, x, 1., k_row);
+            reduced.apply_transpose(av_tangent2, x, speed_w - w_tangent, k_row);
+          };
+      }
+    return op;
   }
 
   void
@@ -158,10 +195,11 @@ namespace rotorfit
   {
     const unsigned int v = reduced.version();
     const unsigned int m = reduced.size();
+    const auto keep = [this](std::vector<double> &av) { return keep_products ? &av : nullptr; };
     if (!(key_basis == ProjectionKey{v, 0, -1}))
       {
-        p_mass    = reduced.project(matrices.mass);
-        p_gyro    = reduced.project(matrices.gyroscopic);
+        p_mass    = reduced.project(matrices.mass, keep(av_mass));
+        p_gyro    = reduced.project(matrices.gyroscopic, keep(av_gyro));
         key_basis = {v, 0, -1};
       }
     // K_t = K_t0 + w K_t2 on an active set's affine law (doc/theory.md B):
@@ -174,20 +212,27 @@ namespace rotorfit
     if (!(key_tangent == tangent_key))
       {
         p_tangent2.reinit(m, m);
+        av_tangent2.clear();
         if (stiffening == StressStiffening::full && state.decomposition().affine)
           {
-            p_tangent2 = reduced.project(k_sigma_C);
+            p_tangent2 = reduced.project(k_sigma_C, keep(av_tangent2));
             if (convective_term)
-              p_tangent2.add(-1., reduced.project(matrices.convective));
+              {
+                std::vector<double> convective;
+                p_tangent2.add(-1., reduced.project(matrices.convective, keep(convective)));
+                for (std::size_t i = 0; i < convective.size(); ++i)
+                  av_tangent2[i] -= convective[i];
+              }
           }
-        p_tangent0 = reduced.project(tangent);
+        p_tangent0 = reduced.project(tangent, keep(av_tangent));
         p_tangent0.add(-state.w(), p_tangent2);
+        w_tangent = state.w();
         key_tangent = tangent_key;
       }
     const ProjectionKey bearing_key{v, 0, bearings.speed_dependent() ? state.rpm : -1};
     if (!(key_bearing == bearing_key))
       {
-        p_bearing_c = reduced.project(bearing_c);
+        p_bearing_c = reduced.project(bearing_c, keep(av_bearing_c));
         key_bearing = bearing_key;
       }
   }
@@ -305,6 +350,9 @@ namespace rotorfit
     if (!why.empty())
       return false;
 
+    speed_w              = state.w();
+    speed_Cr             = std::move(Cr);
+    speed_Kr             = std::move(Kr);
     reduced_worst        = std::max(reduced_worst, worst_estimate);
     worst_backward_error = std::max(worst_backward_error, worst);
     std::ostringstream line;

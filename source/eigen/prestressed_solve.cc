@@ -4,6 +4,7 @@
 
 #include <deal.II/base/mpi.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <iomanip>
@@ -53,7 +54,8 @@ namespace rotorfit
             solution.isotropic_supports = false;
       }
     assemble_tangent(state, solution.tied);
-    last_rpm = state.rpm;
+    last_rpm      = state.rpm;
+    speed_reduced = false;
     if (self_check && checks.empty() && state.rpm > 0)
       matrix_checks(state);
     std::vector<bool>  loose_body;
@@ -62,10 +64,20 @@ namespace rotorfit
 
     if (reduced.enabled())
       {
-        // a contact segment (tied set) of its own starts a new basis; after
-        // the first speed, a changed set is likely to change again at the
-        // next speed (a fit opening gradually): its anchor skips the margin
-        const bool margin_pays = solution.tied == basis_tied || basis_tied.empty();
+        // a contact segment (tied set) of its own starts a new basis. A set
+        // that just changed with every fit part open, part closed is likely
+        // to change again at the next speed (a fit opening gradually): its
+        // anchor skips the margin. Fits wholly closed or wholly open last.
+        const auto &pair_list = model.pairs();
+        bool        settled   = true;
+        for (unsigned int i = 0; i < pair_list.n_interfaces(); ++i)
+          {
+            const auto &ids = pair_list.pairs_of(i);
+            const auto  n_tied =
+              std::count_if(ids.begin(), ids.end(), [&](unsigned int p) { return solution.tied[p]; });
+            settled &= n_tied == 0 || n_tied == static_cast<long>(ids.size());
+          }
+        const bool margin_pays = solution.tied == basis_tied || basis_tied.empty() || settled;
         if (solution.tied != basis_tied)
           {
             reduced.clear();
@@ -79,6 +91,7 @@ namespace rotorfit
         }
         if (done)
           {
+            speed_reduced = true;
             ++reduced_solves;
             if (solution.elastic.size() > n_wanted)
               solution.elastic.resize(n_wanted);
@@ -97,6 +110,12 @@ namespace rotorfit
         if (margin_pays)
           nev = std::min<unsigned int>(nev + 2 * reduced.margin(), 2 * model.dofs().n_dofs() - 3);
       }
+
+    // the reduced products serve no full solve and its anchor makes them
+    // stale: free them before the factorisation, the memory peak
+    for (auto *av : {&av_mass, &av_gyro, &av_tangent, &av_tangent2, &av_bearing_c})
+      std::vector<double>().swap(*av);
+    key_basis = key_tangent = key_bearing = ProjectionKey{~0u, 0, -1};
 
     unsigned int                  unconverged = 0;
     double                        worst       = 0;

@@ -39,8 +39,9 @@ namespace rotorfit
                       "Whirl pairs an anchor solves beyond the Number of modes: the "
                       "basis then covers the modes that can move into the wanted "
                       "range between anchors. Not asked where the tied pairs differ "
-                      "from the previous solve's (in a fit opening step by step such "
-                      "a basis serves no second speed).");
+                      "from the previous solve's and a fit is part open, part closed "
+                      "(in a fit opening step by step such a basis serves no second "
+                      "speed).");
     prm.declare_entry("Reduced slope bound",
                       "2",
                       patterns::Positive(),
@@ -71,6 +72,36 @@ namespace rotorfit
     ++serial;
   }
 
+  void
+  ReducedBasis::m_orthogonalize(Vector<double>                         &v,
+                                const PETScWrappers::MPI::SparseMatrix &M,
+                                Vector<double>                         &mv) const
+  {
+    const int n = v.size(), m = basis.size(), one = 1;
+    if (m == 0)
+      return;
+    const double        plus = 1, minus = -1, zero = 0;
+    std::vector<double> flat(static_cast<std::size_t>(n) * m), c(m);
+    for (int j = 0; j < m; ++j)
+      std::copy(basis[j].begin(), basis[j].end(), flat.begin() + std::size_t(j) * n);
+    // classical Gram-Schmidt twice in the M inner product (V is M-orthonormal)
+    for (unsigned int pass = 0; pass < 2; ++pass)
+      {
+        dgemv_("T", &n, &m, &plus, flat.data(), &n, mv.data(), &one, &zero, c.data(), &one);
+        dgemv_("N", &n, &m, &minus, flat.data(), &n, c.data(), &one, &plus, v.data(), &one);
+        replicated_vmult(M, v, mv);
+      }
+  }
+
+  std::vector<double>
+  ReducedBasis::coefficients(const Vector<double> &x) const
+  {
+    std::vector<double> c(basis.size());
+    for (std::size_t j = 0; j < basis.size(); ++j)
+      c[j] = basis[j] * x;
+    return c;
+  }
+
   bool
   ReducedBasis::add(const Vector<double> &x, const PETScWrappers::MPI::SparseMatrix &M)
   {
@@ -79,22 +110,7 @@ namespace rotorfit
     const double first = std::sqrt(std::max(0., v * mv));
     if (!(first > 0))
       return false;
-    // classical Gram-Schmidt twice in the M inner product (V is M-orthonormal)
-    const int    n = v.size(), m = basis.size(), one = 1;
-    const double plus = 1, minus = -1, zero = 0;
-    std::vector<double> flat, c(m);
-    if (m > 0)
-      {
-        flat.resize(static_cast<std::size_t>(n) * m);
-        for (int j = 0; j < m; ++j)
-          std::copy(basis[j].begin(), basis[j].end(), flat.begin() + std::size_t(j) * n);
-      }
-    for (unsigned int pass = 0; pass < 2 && m > 0; ++pass)
-      {
-        dgemv_("T", &n, &m, &plus, flat.data(), &n, mv.data(), &one, &zero, c.data(), &one);
-        dgemv_("N", &n, &m, &minus, flat.data(), &n, c.data(), &one, &plus, v.data(), &one);
-        replicated_vmult(M, v, mv);
-      }
+    m_orthogonalize(v, M, mv);
     const double norm = std::sqrt(std::max(0., v * mv));
     // one decision for all ranks (their bases must stay the same size)
     if (Utilities::MPI::min(norm > 1e-10 * first ? 1 : 0, M.get_mpi_communicator()) == 0)
@@ -105,8 +121,45 @@ namespace rotorfit
     return true;
   }
 
+  void
+  ReducedBasis::apply(const std::vector<double>               &P,
+                      const std::vector<std::complex<double>> &y,
+                      const std::complex<double>               a,
+                      ComplexVector                           &z) const
+  {
+    const int m = basis.size();
+    if (m == 0 || P.empty())
+      return;
+    const int           n = P.size() / m, one = 1;
+    const double        plus = 1;
+    std::vector<double> re(m), im(m);
+    for (int j = 0; j < m; ++j)
+      {
+        const std::complex<double> c = a * y[j];
+        re[j] = c.real(), im[j] = c.imag();
+      }
+    dgemv_("N", &n, &m, &plus, P.data(), &n, re.data(), &one, &plus, z.re.data(), &one);
+    dgemv_("N", &n, &m, &plus, P.data(), &n, im.data(), &one, &plus, z.im.data(), &one);
+  }
+
+  void
+  ReducedBasis::apply_transpose(const std::vector<double> &P,
+                                const Vector<double>      &x,
+                                const double               a,
+                                std::vector<double>       &c) const
+  {
+    const int m = basis.size();
+    c.resize(m, 0.);
+    if (m == 0 || P.empty())
+      return;
+    const int    n = P.size() / m, one = 1;
+    const double plus = 1;
+    dgemv_("T", &n, &m, &a, P.data(), &n, x.data(), &one, &plus, c.data(), &one);
+  }
+
   FullMatrix<double>
-  ReducedBasis::project(const PETScWrappers::MPI::SparseMatrix &A) const
+  ReducedBasis::project(const PETScWrappers::MPI::SparseMatrix &A,
+                        std::vector<double>                    *products) const
   {
     const int m = basis.size();
     FullMatrix<double> P(m, m);
@@ -127,6 +180,8 @@ namespace rotorfit
     for (int i = 0; i < m; ++i)
       for (int j = 0; j < m; ++j)
         P(i, j) = p[i + std::size_t(j) * m];
+    if (products)
+      *products = std::move(av);
     return P;
   }
 

@@ -7,6 +7,7 @@
 #include <deal.II/lac/lapack_full_matrix.h>
 
 #include <cmath>
+#include <limits>
 #include <iomanip>
 #include <sstream>
 
@@ -189,52 +190,131 @@ namespace rotorfit
 
   namespace
   {
-    /// An orthonormal basis V with the products M V, D V, K V of its columns.
+    /// The Galerkin basis of the response: the eigen reduced model's basis
+    /// V_h of this speed (if it was solved on it: its projections are
+    /// known, doc/theory.md 13) followed by explicit columns e, orthonormal
+    /// and M-orthogonal to V_h, with their products by M, D, K.
     struct ProjectionBasis
     {
       const PrestressedEigenproblem::SpeedOperators &op;
       std::vector<Vector<double>> v, mv, dv, kv;
-      /// V^T M V, V^T D V, V^T K V, grown with the basis
+      /// W^T M W, W^T D W, W^T K W over W = [V_h e], grown with the basis
       std::vector<std::vector<double>> mr, dr, kr;
 
-      /// Galerkin on the basis: U = V y with (A + i B) y = V^T f, A = V^T (K -
-      /// w^2 M) V, B = w V^T D V, solved as the real block system
-      /// [A -B; B A] [y_re; y_im] = [V^T f_re; V^T f_im]; @p r becomes the
+      unsigned int
+      head() const
+      {
+        return op.basis ? op.basis->size() : 0;
+      }
+
+      unsigned int
+      size() const
+      {
+        return head() + v.size();
+      }
+
+      /// Galerkin on the basis: U = W y with (A + i B) y = W^T f, A = W^T (K -
+      /// w^2 M) W, B = w W^T D W, solved as the real block system
+      /// [A -B; B A] [y_re; y_im] = [W^T f_re; W^T f_im]; @p r becomes the
       /// full-space residual f - (K - w^2 M + i w D) U.
       void
       solve(const ComplexVector &f, const double w, ComplexVector &u, ComplexVector &r)
       {
-        const unsigned int k = v.size();
+        const unsigned int k = size();
         project();
         LAPACKFullMatrix<double> S(2 * k, 2 * k);
-        Vector<double>           y(2 * k);
         for (unsigned int i = 0; i < k; ++i)
-          {
-            for (unsigned int j = 0; j < k; ++j)
-              {
-                const double a = kr[i][j] - w * w * mr[i][j];
-                const double b = w * dr[i][j];
-                S(i, j) = S(k + i, k + j) = a;
-                S(i, k + j)               = -b;
-                S(k + i, j)               = b;
-              }
-            y[i]     = v[i] * f.re;
-            y[k + i] = v[i] * f.im;
-          }
+          for (unsigned int j = 0; j < k; ++j)
+            {
+              const double a = kr[i][j] - w * w * mr[i][j];
+              const double b = w * dr[i][j];
+              S(i, j) = S(k + i, k + j) = a;
+              S(i, k + j)               = -b;
+              S(k + i, j)               = b;
+            }
         S.compute_lu_factorization();
+        Vector<double> y = project_vector(f);
         S.solve(y);
-        r    = f;
-        u.re = 0;
-        u.im = 0;
-        for (unsigned int j = 0; j < k; ++j)
+        residual(f, w, y, u, r);
+        // the projected system of a large basis solves to about eps times its
+        // condition; one or two steps of refinement on the residual
+        // recover what the basis can give
+        const auto norm = [](const ComplexVector &z) {
+          return std::sqrt(z.re.norm_sqr() + z.im.norm_sqr());
+        };
+        for (unsigned int refinement = 0; refinement < 2 && head() > 0; ++refinement)
           {
-            const double yr = y[j], yi = y[k + j];
-            u.re.add(yr, v[j]);
-            u.im.add(yi, v[j]);
-            r.re.add(-yr, kv[j], w * w * yr, mv[j]);
-            r.re.add(w * yi, dv[j]);
-            r.im.add(-yi, kv[j], w * w * yi, mv[j]);
-            r.im.add(-w * yr, dv[j]);
+            Vector<double> dy = project_vector(r);
+            S.solve(dy);
+            Vector<double> y_new = y;
+            y_new += dy;
+            ComplexVector u_new, r_new;
+            residual(f, w, y_new, u_new, r_new);
+            if (!(norm(r_new) < 0.5 * norm(r)))
+              break;
+            y = std::move(y_new);
+            u = std::move(u_new);
+            r = std::move(r_new);
+          }
+      }
+
+      /// [W^T g_re; W^T g_im].
+      Vector<double>
+      project_vector(const ComplexVector &g) const
+      {
+        const unsigned int k = size(), h = head();
+        Vector<double>     y(2 * k);
+        if (h > 0)
+          {
+            const std::vector<double> re = op.basis->coefficients(g.re),
+                                      im = op.basis->coefficients(g.im);
+            for (unsigned int i = 0; i < h; ++i)
+              y[i] = re[i], y[k + i] = im[i];
+          }
+        for (unsigned int i = h; i < k; ++i)
+          {
+            y[i]     = v[i - h] * g.re;
+            y[k + i] = v[i - h] * g.im;
+          }
+        return y;
+      }
+
+      /// u = W y and r = f - (K - w^2 M + i w D) u.
+      void
+      residual(const ComplexVector  &f,
+               const double          w,
+               const Vector<double> &y,
+               ComplexVector        &u,
+               ComplexVector        &r) const
+      {
+        const unsigned int k = size(), h = head();
+        r = f;
+        if (h > 0)
+          {
+            // the head's part from the products its projections were made of
+            std::vector<std::complex<double>> yh(h);
+            for (unsigned int i = 0; i < h; ++i)
+              yh[i] = {y[i], y[k + i]};
+            u = op.basis->expand(yh);
+            ComplexVector mu, du, ku;
+            op.products(yh, mu, du, ku);
+            r.re.add(-1., ku.re, w * w, mu.re);
+            r.re.add(w, du.im);
+            r.im.add(-1., ku.im, w * w, mu.im);
+            r.im.add(-w, du.re);
+          }
+        else
+          u = {Vector<double>(f.re.size()), Vector<double>(f.re.size())};
+        for (unsigned int j = h; j < k; ++j)
+          {
+            const double       yr = y[j], yi = y[k + j];
+            const unsigned int e  = j - h;
+            u.re.add(yr, v[e]);
+            u.im.add(yi, v[e]);
+            r.re.add(-yr, kv[e], w * w * yr, mv[e]);
+            r.re.add(w * yi, dv[e]);
+            r.im.add(-yi, kv[e], w * w * yi, mv[e]);
+            r.im.add(-w * yr, dv[e]);
           }
       }
 
@@ -243,20 +323,48 @@ namespace rotorfit
       void
       project()
       {
-        const std::size_t k = v.size(), old = mr.size();
+        const std::size_t k = size(), h = head(), old = mr.size();
         for (auto *r : {&mr, &dr, &kr})
           {
             r->resize(k);
             for (auto &row : *r)
               row.resize(k);
           }
-        for (std::size_t i = 0; i < k; ++i)
-          for (std::size_t j = (i < old ? old : 0); j < k; ++j)
-            {
-              mr[i][j] = v[i] * mv[j];
-              dr[i][j] = v[i] * dv[j];
-              kr[i][j] = v[i] * kv[j];
-            }
+        if (old == 0)
+          for (std::size_t i = 0; i < h; ++i)
+            for (std::size_t j = 0; j < h; ++j)
+              {
+                mr[i][j] = (*op.Mr)(i, j);
+                dr[i][j] = (*op.Cr)(i, j);
+                kr[i][j] = (*op.Kr)(i, j);
+              }
+        for (std::size_t j = std::max(old, h); j < k; ++j)
+          {
+            const std::size_t e = j - h;
+            if (h > 0)
+              {
+                // V_h^T (A e), and e^T (A V_h) from the head's products, so
+                // that every entry rounds as the residual does
+                const std::vector<double> m_col = op.basis->coefficients(mv[e]),
+                                          d_col = op.basis->coefficients(dv[e]),
+                                          k_col = op.basis->coefficients(kv[e]);
+                std::vector<double> m_row, d_row, k_row;
+                op.row_products(v[e], m_row, d_row, k_row);
+                for (std::size_t i = 0; i < h; ++i)
+                  {
+                    mr[i][j] = m_col[i], mr[j][i] = m_row[i];
+                    dr[i][j] = d_col[i], dr[j][i] = d_row[i];
+                    kr[i][j] = k_col[i], kr[j][i] = k_row[i];
+                  }
+              }
+            for (std::size_t i = h; i < k; ++i)
+              {
+                const std::size_t c = i - h;
+                mr[i][j] = v[c] * mv[e], mr[j][i] = v[e] * mv[c];
+                dr[i][j] = v[c] * dv[e], dr[j][i] = v[e] * dv[c];
+                kr[i][j] = v[c] * kv[e], kr[j][i] = v[e] * kv[c];
+              }
+          }
       }
 
       /// Orthogonalise @p x against the basis (twice) and append it unless it
@@ -267,17 +375,36 @@ namespace rotorfit
         const double norm0 = x.l2_norm();
         if (!(norm0 > 0) || !std::isfinite(norm0))
           return false;
-        for (unsigned int pass = 0; pass < 2; ++pass)
-          for (const auto &q : v)
-            x.add(-(q * x), q);
-        const double norm = x.l2_norm();
-        if (!(norm > 1e-10 * norm0))
-          return false;
-        x /= norm;
+        if (head() > 0)
+          {
+            // M-orthonormal like the head (columns of one scale keep the
+            // projected system as well conditioned as the basis is)
+            Vector<double> mx;
+            replicated_vmult(op.mass, x, mx);
+            const double m_norm0 = std::sqrt(std::max(0., x * mx));
+            op.basis->m_orthogonalize(x, op.mass, mx);
+            for (unsigned int pass = 0; pass < 2; ++pass)
+              for (std::size_t e = 0; e < v.size(); ++e)
+                x.add(-(mv[e] * x), v[e]);
+            replicated_vmult(op.mass, x, mx);
+            const double m_norm = std::sqrt(std::max(0., x * mx));
+            if (!(m_norm > 1e-10 * m_norm0))
+              return false;
+            x /= m_norm;
+          }
+        else
+          {
+            for (unsigned int pass = 0; pass < 2; ++pass)
+              for (const auto &q : v)
+                x.add(-(q * x), q);
+            const double norm = x.l2_norm();
+            if (!(norm > 1e-10 * norm0))
+              return false;
+            x /= norm;
+          }
         v.push_back(x);
-        mv.emplace_back();
-        dv.emplace_back();
-        kv.emplace_back();
+        for (auto *p : {&mv, &dv, &kv})
+          p->emplace_back();
         replicated_vmult(op.mass, x, mv.back());
         replicated_vmult(op.damping, x, dv.back());
         replicated_vmult(op.stiffness, x, kv.back());
@@ -302,40 +429,61 @@ namespace rotorfit
     const double f_norm = std::sqrt(f.re.norm_sqr() + f.im.norm_sqr());
     const std::size_t n = f.re.size();
     ComplexVector u{Vector<double>(n), Vector<double>(n)};
-    if (f_norm > 0)
-      {
-        ProjectionBasis basis{op, {}, {}, {}, {}, {}, {}, {}};
+    // one attempt on a basis; on the eigen reduced model's basis it gives up
+    // when an enrichment step no longer halves the residual (the products
+    // of its head with a stiff K round to about that level), and the speed
+    // is solved on its modes instead
+    const auto attempt = [&](const PrestressedEigenproblem::SpeedOperators &o) {
+      ProjectionBasis basis{o, {}, {}, {}, {}, {}, {}, {}};
+      // the speed's modes lie in the eigen reduced basis when it solved them
+      if (!o.basis)
         for (const auto &p : modes)
           {
             basis.add(p.phi.re);
             basis.add(p.phi.im);
           }
-        Vector<double> x;
-        for (const auto *g : {&f.re, &f.im})
-          {
-            replicated_solve(op.shifted_inverse, op.mass, *g, x);
-            basis.add(x);
-          }
-        for (unsigned int step = 0;; ++step)
-          {
-            ComplexVector r = f;
-            basis.solve(f, w, u, r);
-            out.residual   = std::sqrt(r.re.norm_sqr() + r.im.norm_sqr()) / f_norm;
-            out.basis_size = basis.v.size();
-            if (out.residual <= tolerance)
-              break;
-            bool grown = false;
-            if (step < max_enrichment)
-              for (const auto *g : {&r.re, &r.im})
-                {
-                  replicated_solve(op.shifted_inverse, op.mass, *g, x);
-                  grown |= basis.add(x);
-                }
-            if (!grown)
+      Vector<double> x;
+      for (const auto *g : {&f.re, &f.im})
+        {
+          replicated_solve(o.shifted_inverse, o.mass, *g, x);
+          basis.add(x);
+        }
+      double previous = std::numeric_limits<double>::infinity();
+      for (unsigned int step = 0;; ++step)
+        {
+          ComplexVector r = f;
+          basis.solve(f, w, u, r);
+          out.residual   = std::sqrt(r.re.norm_sqr() + r.im.norm_sqr()) / f_norm;
+          out.basis_size = basis.size();
+          if (out.residual <= tolerance)
+            return true;
+          if (o.basis && !(out.residual < 0.5 * previous))
+            return false;
+          previous   = out.residual;
+          bool grown = false;
+          if (step < max_enrichment)
+            for (const auto *g : {&r.re, &r.im})
               {
-                out.converged = false;
-                break;
+                replicated_solve(o.shifted_inverse, o.mass, *g, x);
+                grown |= basis.add(x);
               }
+          if (!grown)
+            return false;
+        }
+    };
+    if (f_norm > 0)
+      {
+        bool done = false;
+        if (op.basis && op.products && op.row_products)
+          {
+            done = attempt(op);
+            reduced_speeds += done ? 1 : 0;
+          }
+        if (!done)
+          {
+            PrestressedEigenproblem::SpeedOperators on_modes = op;
+            on_modes.basis                                   = nullptr;
+            out.converged                                    = attempt(on_modes);
           }
       }
     if (!std::isfinite(out.residual))
@@ -381,6 +529,7 @@ namespace rotorfit
       return;
     summary.add("response.speeds", history.size());
     summary.add("response.unconverged_speeds", unconverged_speeds);
+    summary.add("response.reduced_speeds", reduced_speeds);
     summary.add("response.worst_residual", worst_residual, 3);
     unsigned int unresolved = 0;
     for (const auto &p : peaks())

@@ -15,6 +15,7 @@
 
 #include <deal.II/lac/petsc_sparse_matrix.h>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -89,8 +90,11 @@ namespace rotorfit
     state_vectors_needed(const double n_dofs) const
     {
       // the reduced model: its basis and two work copies in the projection
-      const double basis =
-        reduced.enabled() ? 1.5 * reduced.capacity(max_nev + 2 * reduced.margin()) : 0.;
+      // (n-vectors, half a state vector each), and A V of five matrices kept
+      // for the response
+      const double basis = reduced.enabled() ? (keep_products ? 4. : 1.5) *
+                                                 reduced.capacity(max_nev + 2 * reduced.margin()) :
+                                               0.;
       return std::min<double>(2 * n_dofs, eigensolver.krylov_size(max_nev, 2)) + max_nev + 1 +
              basis;
     }
@@ -116,9 +120,34 @@ namespace rotorfit
       const dealii::PETScWrappers::MPI::SparseMatrix &mass, &damping, &stiffness;
       const DirectSolver                             &shifted_inverse;
       double                                          rpm;
+      /// The reduced model this speed was solved on, V^T M V, V^T C V and
+      /// V^T K_t V at this speed; null after a full solve.
+      const ReducedBasis               *basis = nullptr;
+      const dealii::FullMatrix<double> *Mr = nullptr, *Cr = nullptr, *Kr = nullptr;
+      /// M V y, C V y, K_t V y from the products kept with the projections
+      /// (rounded as the projections were: keep_reduced_products())
+      std::function<void(const std::vector<std::complex<double>> &y,
+                         ComplexVector                           &Mu,
+                         ComplexVector                           &Cu,
+                         ComplexVector                           &Ku)>
+        products;
+      /// (M V)^T x, (C V)^T x, (K_t V)^T x from the same products
+      std::function<void(const dealii::Vector<double> &x,
+                         std::vector<double>          &m_row,
+                         std::vector<double>          &c_row,
+                         std::vector<double>          &k_row)>
+        row_products;
     };
     SpeedOperators
     operators();
+
+    /// Keep A V with the reduced projections (5 n x m doubles) for
+    /// operators().products: the unbalance response uses them.
+    void
+    keep_reduced_products(const bool keep)
+    {
+      keep_products = keep;
+    }
 
     /// Log the totals, add the eigen entries to @p summary.
     void
@@ -200,6 +229,15 @@ namespace rotorfit
     std::vector<bool> basis_tied;
     /// V^T X V of M, G, the tangent at w = 0 and its d/dw, bearing damping
     dealii::FullMatrix<double> p_mass, p_gyro, p_tangent0, p_tangent2, p_bearing_c;
+    /// the reduced C and K_t of the latest speed, if it was solved reduced
+    dealii::FullMatrix<double> speed_Cr, speed_Kr;
+    bool                       speed_reduced = false;
+    double                     speed_w       = 0;
+    /// A V of the projections (column-major; empty unless keep_products),
+    /// the tangent's at w_tangent
+    std::vector<double> av_mass, av_gyro, av_tangent, av_tangent2, av_bearing_c;
+    double              w_tangent     = 0;
+    bool                keep_products = false;
     /// what the projections were made for
     struct ProjectionKey
     {

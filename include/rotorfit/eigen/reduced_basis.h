@@ -92,9 +92,35 @@ namespace rotorfit
     bool
     add(const dealii::Vector<double> &x, const dealii::PETScWrappers::MPI::SparseMatrix &M);
 
-    /// V^T A V.
+    /// M-orthogonalise @p v against the basis in place (classical
+    /// Gram-Schmidt twice); @p mv: M v on entry and on return.
+    void
+    m_orthogonalize(dealii::Vector<double>                         &v,
+                    const dealii::PETScWrappers::MPI::SparseMatrix &M,
+                    dealii::Vector<double>                         &mv) const;
+
+    /// V^T x.
+    std::vector<double>
+    coefficients(const dealii::Vector<double> &x) const;
+
+    /// V^T A V; with @p products also A V (n x m, column-major).
     dealii::FullMatrix<double>
-    project(const dealii::PETScWrappers::MPI::SparseMatrix &A) const;
+    project(const dealii::PETScWrappers::MPI::SparseMatrix &A,
+            std::vector<double>                            *products = nullptr) const;
+
+    /// z += a P y for products P = A V kept by project().
+    void
+    apply(const std::vector<double>               &P,
+          const std::vector<std::complex<double>> &y,
+          const std::complex<double>               a,
+          ComplexVector                           &z) const;
+
+    /// c += a P^T x (= a (A V)^T x) for products P kept by project().
+    void
+    apply_transpose(const std::vector<double>    &P,
+                    const dealii::Vector<double> &x,
+                    const double                  a,
+                    std::vector<double>          &c) const;
 
     /// Eigenvalue, right and left reduced eigenvectors y, w (length m) of
     /// the dense problem: Q_r(lambda) y = 0, w^H Q_r(lambda) = 0.

@@ -69,9 +69,11 @@ namespace rotorfit
    *   (K_t - Omega^2 M + i Omega (C + Omega G)) U = F Omega^2,
    *
    * F_x = m e e^{i phi} a, F_y = -i F_x (a: the station's weights). Solved on
-   * the speed's eigenvectors plus Q(sigma)^{-1} F (the eigensolver's
-   * factorisation), enriched by Q(sigma)^{-1} r until the full-space residual
-   * r is below a tolerance: no factorisation of its own. The response is read
+   * the eigen reduced model's basis where the speed was solved on it (its
+   * projections are at hand), else on the speed's eigenvectors, plus
+   * Q(sigma)^{-1} F (the eigensolver's factorisation), enriched by
+   * Q(sigma)^{-1} r until the full-space residual r is below a tolerance: no
+   * factorisation of its own. The response is read
    * at probes (every bearing and unbalance station, and "Probe <name>"); the
    * peaks get their half-power amplification factor and separation margin.
    *
@@ -152,6 +154,7 @@ namespace rotorfit
 
     std::vector<ResponseAtSpeed> history;
     unsigned int                 unconverged_speeds = 0;
+    unsigned int                 reduced_speeds     = 0; ///< solved on the eigen reduced basis
     double                       worst_residual     = 0;
   };
 } // namespace rotorfit
