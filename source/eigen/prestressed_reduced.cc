@@ -165,7 +165,9 @@ namespace rotorfit
   }
 
   void
-  PrestressedEigenproblem::add_anchor(const double rpm, const std::vector<EigenPair> &pairs)
+  PrestressedEigenproblem::add_anchor(const double                  rpm,
+                                      const std::vector<EigenPair> &pairs,
+                                      const bool                    lasting)
   {
     // the full solve found every eigenvalue within this distance of the
     // shift (ARPACK's nev nearest, all converged or the speed failed)
@@ -178,15 +180,54 @@ namespace rotorfit
           radius = std::max(radius, std::abs(p.lambda - sigma));
           vectors += p.lambda.imag() != 0 ? 2 : 1;
         }
-    if (reduced.size() + vectors > reduced.capacity(vectors))
+    // where the basis is to serve other speeds (a lasting contact state):
+    // each mode's first-order change with the speed, Q(sigma)^-1 G phi
+    // (gyroscopic) and Q(sigma)^-1 dK_t/dw phi (stress stiffening, spin
+    // softening), so that one anchor covers a wider range (doc/theory.md 8.6)
+    const bool stiffening_moves = stiffening == StressStiffening::full;
+    const unsigned int directions = lasting ? (stiffening_moves ? 3 : 2) : 1;
+    if (reduced.size() + directions * vectors > reduced.capacity(directions * vectors))
       reduced.clear();
+    std::vector<const Vector<double> *> parts;
     for (const auto &p : pairs)
       if (p.backward_error <= eigensolver.backward_error_limit())
         {
           reduced.add(p.phi.re, matrices.mass);
+          parts.push_back(&p.phi.re);
           if (p.lambda.imag() != 0)
-            reduced.add(p.phi.im, matrices.mass);
+            {
+              reduced.add(p.phi.im, matrices.mass);
+              parts.push_back(&p.phi.im);
+            }
         }
+    if (directions > 1)
+      {
+        std::vector<Vector<double>> products;
+        Vector<double>              y;
+        for (const auto *x : parts)
+          {
+            replicated_vmult(matrices.gyroscopic, *x, y);
+            products.push_back(y);
+            if (stiffening_moves)
+              {
+                Vector<double> z;
+                replicated_vmult(k_sigma_C, *x, z);
+                if (convective_term)
+                  {
+                    replicated_vmult(matrices.convective, *x, y);
+                    z -= y;
+                  }
+                products.push_back(std::move(z));
+              }
+          }
+        std::vector<const Vector<double> *> rhs;
+        for (const auto &v : products)
+          rhs.push_back(&v);
+        std::vector<Vector<double>> directions_found;
+        replicated_solve(eigensolver.linear_solver(), matrices.mass, rhs, directions_found);
+        for (const auto &d : directions_found)
+          reduced.add(d, matrices.mass);
+      }
     reduced.anchors.push_back({rpm, radius});
   }
 

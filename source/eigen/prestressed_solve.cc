@@ -62,6 +62,7 @@ namespace rotorfit
     const unsigned int zeros = expected_zero_modes(solution.tied, loose_body);
     unsigned int       nev   = 2 * n_wanted + 2 * zeros + 1;
 
+    bool margin_pays = false;
     if (reduced.enabled())
       {
         // a contact segment (tied set) of its own starts a new basis. A set
@@ -77,7 +78,7 @@ namespace rotorfit
               std::count_if(ids.begin(), ids.end(), [&](unsigned int p) { return solution.tied[p]; });
             settled &= n_tied == 0 || n_tied == static_cast<long>(ids.size());
           }
-        const bool margin_pays = solution.tied == basis_tied || basis_tied.empty() || settled;
+        margin_pays = solution.tied == basis_tied || basis_tied.empty() || settled;
         if (solution.tied != basis_tied)
           {
             reduced.clear();
@@ -138,7 +139,7 @@ namespace rotorfit
         if (sort_eigenpairs(pairs, loose_body, solution, unconverged, worst))
           {
             if (reduced.enabled())
-              add_anchor(state.rpm, anchor);
+              add_anchor(state.rpm, anchor, margin_pays);
             break;
           }
         unsigned int n_rigid = 0, n_loose = 0, n_overdamped = 0;

@@ -199,7 +199,7 @@ namespace rotorfit
                     const std::vector<const ReducedBasis::Pair *> &dense) const;
     /// A full solve's converged eigenvectors into the basis.
     void
-    add_anchor(const double rpm, const std::vector<EigenPair> &pairs);
+    add_anchor(const double rpm, const std::vector<EigenPair> &pairs, const bool lasting);
     void
     announce_loose_bodies(const StaticState &state, const std::vector<bool> &loose_body);
     /// Virial checks of K_sigma on rigid tilt and twist (doc/theory.md 10e).
