@@ -125,41 +125,40 @@ namespace rotorfit
         eigensolver.factorize(matrices.mass, damping, tangent, shifted);
       }
     SpeedOperators op{matrices.mass, damping, tangent, eigensolver.linear_solver(), last_rpm};
-    if (speed_reduced)
+    // the reduced model of this speed, for the response: only with the
+    // products its projections were made of (freed by a full solve)
+    if (speed_reduced && keep_products && !av_mass.empty())
       {
         op.basis = &reduced;
         op.Mr    = &p_mass;
         op.Cr    = &speed_Cr;
         op.Kr    = &speed_Kr;
-        const bool products = keep_products && !av_mass.empty();
-        if (products)
-          op.products = [this](const std::vector<std::complex<double>> &y,
-                               ComplexVector                           &Mu,
-                               ComplexVector                           &Cu,
-                               ComplexVector                           &Ku) {
-            const std::size_t n     = matrices.mass.m();
-            const double      omega = std::sqrt(speed_w);
-            for (auto *z : {&Mu, &Cu, &Ku})
-              *z = {Vector<double>(n), Vector<double>(n)};
-            reduced.apply(av_mass, y, 1., Mu);
-            reduced.apply(av_bearing_c, y, 1., Cu);
-            reduced.apply(av_gyro, y, omega, Cu);
-            reduced.apply(av_tangent, y, 1., Ku);
-            reduced.apply(av_tangent2, y, speed_w - w_tangent, Ku);
-          };
-        if (products)
-          op.row_products = [this](const Vector<double> &x,
-                                   std::vector<double>  &m_row,
-                                   std::vector<double>  &c_row,
-                                   std::vector<double>  &k_row) {
-            for (auto *c : {&m_row, &c_row, &k_row})
-              c->clear();
-            reduced.apply_transpose(av_mass, x, 1., m_row);
-            reduced.apply_transpose(av_bearing_c, x, 1., c_row);
-            reduced.apply_transpose(av_gyro, x, std::sqrt(speed_w), c_row);
-            reduced.apply_transpose(av_tangent, x, 1., k_row);
-            reduced.apply_transpose(av_tangent2, x, speed_w - w_tangent, k_row);
-          };
+        const double omega = SpeedSchedule::rpm_to_rad_per_s(last_rpm), dw = omega * omega - w_tangent;
+        op.products = [this, omega, dw](const std::vector<std::complex<double>> &y,
+                                        ComplexVector                           &Mu,
+                                        ComplexVector                           &Cu,
+                                        ComplexVector                           &Ku) {
+          const std::size_t n = matrices.mass.m();
+          for (auto *z : {&Mu, &Cu, &Ku})
+            *z = {Vector<double>(n), Vector<double>(n)};
+          reduced.apply(av_mass, y, 1., Mu);
+          reduced.apply(av_bearing_c, y, 1., Cu);
+          reduced.apply(av_gyro, y, omega, Cu);
+          reduced.apply(av_tangent, y, 1., Ku);
+          reduced.apply(av_tangent2, y, dw, Ku);
+        };
+        op.row_products = [this, omega, dw](const Vector<double> &x,
+                                            std::vector<double>  &m_row,
+                                            std::vector<double>  &c_row,
+                                            std::vector<double>  &k_row) {
+          for (auto *c : {&m_row, &c_row, &k_row})
+            c->clear();
+          reduced.apply_transpose(av_mass, x, 1., m_row);
+          reduced.apply_transpose(av_bearing_c, x, 1., c_row);
+          reduced.apply_transpose(av_gyro, x, omega, c_row);
+          reduced.apply_transpose(av_tangent, x, 1., k_row);
+          reduced.apply_transpose(av_tangent2, x, dw, k_row);
+        };
       }
     return op;
   }
@@ -391,7 +390,6 @@ namespace rotorfit
     if (!why.empty())
       return false;
 
-    speed_w              = state.w();
     speed_Cr             = std::move(Cr);
     speed_Kr             = std::move(Kr);
     reduced_worst        = std::max(reduced_worst, worst_estimate);

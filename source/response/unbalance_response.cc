@@ -474,7 +474,7 @@ namespace rotorfit
     if (f_norm > 0)
       {
         bool done = false;
-        if (op.basis && op.products && op.row_products)
+        if (op.basis)
           {
             done = attempt(op);
             reduced_speeds += done ? 1 : 0;

@@ -121,7 +121,8 @@ namespace rotorfit
       const DirectSolver                             &shifted_inverse;
       double                                          rpm;
       /// The reduced model this speed was solved on, V^T M V, V^T C V and
-      /// V^T K_t V at this speed; null after a full solve.
+      /// V^T K_t V at this speed, and the products below; null after a full
+      /// solve or without keep_reduced_products().
       const ReducedBasis               *basis = nullptr;
       const dealii::FullMatrix<double> *Mr = nullptr, *Cr = nullptr, *Kr = nullptr;
       /// M V y, C V y, K_t V y from the products kept with the projections
@@ -232,7 +233,6 @@ namespace rotorfit
     /// the reduced C and K_t of the latest speed, if it was solved reduced
     dealii::FullMatrix<double> speed_Cr, speed_Kr;
     bool                       speed_reduced = false;
-    double                     speed_w       = 0;
     /// A V of the projections (column-major; empty unless keep_products),
     /// the tangent's at w_tangent
     std::vector<double> av_mass, av_gyro, av_tangent, av_tangent2, av_bearing_c;
