@@ -282,7 +282,8 @@ namespace rotorfit
                                          const std::vector<bool> &loose_body,
                                          const unsigned int       nev,
                                          EigenSolution           &solution,
-                                         std::string             &why)
+                                         std::string             &why,
+                                         const bool               checked)
   {
     if (reduced.size() == 0)
       return false;
@@ -324,7 +325,10 @@ namespace rotorfit
           continue;
         p.phi.re /= scale;
         p.phi.im /= scale;
-        p.backward_error = backward_error(p.lambda, p.phi, p.m_phi);
+        if (checked)
+          p.backward_error = backward_error(p.lambda, p.phi, p.m_phi);
+        else
+          replicated_vmult(matrices.mass, p.phi, p.m_phi); // for the MAC; no residual
         radius = std::max(radius, std::abs(p.lambda - sigma));
         count += p.lambda.imag() != 0 ? 2 : 1;
         pairs.push_back(std::move(p));
@@ -356,6 +360,8 @@ namespace rotorfit
     unsigned int unconverged = 0;
     double       worst       = 0, worst_estimate = 0;
     const bool   sorted = sort_eigenpairs(pairs, loose_body, solution, unconverged, worst);
+    if (!checked)
+      return sorted; // a root-solve trial: its root gets the checked solve
     const double t_modes = elapsed();
     if (reason.str().empty() && sorted)
       {

@@ -37,10 +37,11 @@ namespace rotorfit
     return {};
   }
 
-  EigenSolution
-  PrestressedEigenproblem::solve(const StaticState &state)
+  unsigned int
+  PrestressedEigenproblem::begin_speed(const StaticState &state,
+                                       EigenSolution     &solution,
+                                       std::vector<bool> &loose_body)
   {
-    EigenSolution solution;
     solution.rpm   = state.rpm;
     solution.index = state.index;
     solution.tied  = tied_pairs(state);
@@ -58,9 +59,35 @@ namespace rotorfit
     speed_reduced = false;
     if (self_check && checks.empty() && state.rpm > 0)
       matrix_checks(state);
-    std::vector<bool>  loose_body;
     const unsigned int zeros = expected_zero_modes(solution.tied, loose_body);
-    unsigned int       nev   = 2 * n_wanted + 2 * zeros + 1;
+    return 2 * n_wanted + 2 * zeros + 1;
+  }
+
+  bool
+  PrestressedEigenproblem::solve_trial(const StaticState &state, EigenSolution &solution)
+  {
+    // only where the speed's own solve left a basis of this tied set
+    if (!reduced.enabled() || reduced.size() == 0 || tied_pairs(state) != basis_tied)
+      return false;
+    solution = EigenSolution();
+    std::vector<bool>  loose_body;
+    const unsigned int nev = begin_speed(state, solution, loose_body);
+    std::string        unused;
+    TimerOutput::Scope t(timer, "eigen: reduced model");
+    if (!solve_reduced(state, loose_body, nev, solution, unused, false))
+      return false;
+    ++reduced_trials;
+    if (solution.elastic.size() > n_wanted)
+      solution.elastic.resize(n_wanted);
+    return true;
+  }
+
+  EigenSolution
+  PrestressedEigenproblem::solve(const StaticState &state)
+  {
+    EigenSolution     solution;
+    std::vector<bool> loose_body;
+    unsigned int      nev = begin_speed(state, solution, loose_body);
 
     bool margin_pays = false;
     if (reduced.enabled())
@@ -348,12 +375,14 @@ namespace rotorfit
     summary.add("eigen.full_solves", full_solves);
     summary.add("eigen.reduced_solves", reduced_solves);
     summary.add("eigen.reduced_refusals", reduced_refusals);
+    summary.add("eigen.reduced_root_trials", reduced_trials);
     if (reduced_solves > 0)
       summary.add("eigen.reduced_worst_error_estimate", reduced_worst, 12);
     summary.add("eigen.workspace_retries", eigensolver.linear_solver().n_workspace_retries());
     log << "Eigenproblem: " << speeds_done << " speeds (" << full_solves << " full, "
         << reduced_solves << " on the reduced model, " << reduced_refusals
-        << " refused by it), " << eigensolver.linear_solver().n_factorizations()
+        << " refused by it; " << reduced_trials << " unchecked root-solve trials on it), "
+        << eigensolver.linear_solver().n_factorizations()
         << " factorisations of Q(sigma), worst backward error " << worst_backward_error
         << (reduced_solves > 0 ? ", largest estimated error of a reduced mode " : "");
     if (reduced_solves > 0)

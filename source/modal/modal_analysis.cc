@@ -87,14 +87,16 @@ namespace rotorfit
   void
   ModalAnalysis::solve_crossings(const StaticState &state, PrestressedEigenproblem &eigen)
   {
-    for (auto &c : result.crossings)
+    crossing_solutions.assign(result.crossings.size(), EigenSolution());
+    for (unsigned int i = 0; i < result.crossings.size(); ++i)
       {
+        auto      &c    = result.crossings[i];
         const auto line = std::find_if(result.modes.begin(), result.modes.end(),
                                        [&](const WhirlMode &m) { return m.tracked_id == c.tracked_id; });
         if (line == result.modes.end())
           continue;
         const unsigned int k = c.order;
-        const LineRoot     root =
+        LineRoot           root =
           solve_line_root(*line, c.from_rpm, c.from_value, c.to_rpm, c.to_value,
                           [k](const std::complex<double> l, const double rpm) {
                             return l.imag() / (2 * M_PI) - k * rpm / 60.;
@@ -109,12 +111,14 @@ namespace rotorfit
             c.frequency_hz  = root.lambda.imag() / (2 * M_PI);
             c.damping_ratio = -root.lambda.real() / std::abs(root.lambda);
           }
+        if (!root.solution.elastic.empty() && root.solution.rpm == c.rpm)
+          crossing_solutions[i] = std::move(root.solution);
         if (!c.solved)
           ++n_unsolved;
         log << "  critical speed: line " << c.tracked_id << " (" << c.whirl << ") meets " << k
             << "X at " << std::setprecision(8) << c.rpm << " r/min, " << c.frequency_hz
             << " Hz, damping ratio " << std::setprecision(4) << c.damping_ratio << " ("
-            << root.evaluations << " eigen solves"
+            << root.evaluations << " eigen solves, " << root.trials << " unchecked trials"
             << (c.solved ? "" : "; NOT converged, the last trial is kept") << ")\n"
             << std::setprecision(6);
       }

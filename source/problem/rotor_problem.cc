@@ -92,17 +92,21 @@ namespace rotorfit
     // the crossings since the previous speed, solved at their own speed on
     // this speed's contact law (as the stability onsets are)
     TimerOutput::Scope t(timer, "mode shapes at critical speeds");
-    for (const auto &c : modal.last_result().crossings)
+    const auto        &crossings = modal.last_result().crossings;
+    for (unsigned int i = 0; i < crossings.size(); ++i)
       {
         StaticState trial = state;
-        trial.rpm         = c.rpm;
+        trial.rpm         = crossings[i].rpm;
         try
           {
-            results.add_critical(trial, modal.classify(eigen.solve(trial)));
+            // the root solve's checked solve at that speed, else a new one
+            EigenSolution s = modal.take_crossing_solution(i);
+            results.add_critical(trial, modal.classify(s.elastic.empty() ? eigen.solve(trial) :
+                                                                           std::move(s)));
           }
         catch (const SolverFailure &e)
           {
-            log << "Warning: no mode shapes at the critical speed " << format_number(c.rpm)
+            log << "Warning: no mode shapes at the critical speed " << format_number(trial.rpm)
                 << " r/min: the eigensolver failed there (" << e.what() << ").\n";
           }
       }

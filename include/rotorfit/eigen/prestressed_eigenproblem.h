@@ -111,6 +111,14 @@ namespace rotorfit
     EigenSolution
     solve(const StaticState &state);
 
+    /// A root-solve trial (doc/theory.md 9.7): the modes of @p state on the
+    /// reduced model alone, without the full-space checks, where the
+    /// speed's own solve left a basis of its tied set (false otherwise:
+    /// nothing solved). Only to locate a root; what is reported there comes
+    /// from solve().
+    bool
+    solve_trial(const StaticState &state, EigenSolution &solution);
+
     /// The matrices of the last solve() (valid until the next solve) and
     /// the factorisation of Q(sigma) = K_t + sigma C + sigma^2 M of the
     /// latest full solve (the speed's own unless it was solved on the
@@ -158,6 +166,10 @@ namespace rotorfit
     /// Once per run: the Shift above the lowest elastic frequency found.
     void
     warn_far_shift(const EigenSolution &solution, const double rpm);
+    /// What every solve of a speed starts with: the solution's speed and
+    /// tied pairs, the tangent; returns the eigenvalues to ask for.
+    unsigned int
+    begin_speed(const StaticState &state, EigenSolution &solution, std::vector<bool> &loose_body);
     void
     assemble_tangent(const StaticState &state, const std::vector<bool> &tied);
     void
@@ -188,7 +200,8 @@ namespace rotorfit
                   const std::vector<bool> &loose_body,
                   const unsigned int       nev,
                   EigenSolution           &solution,
-                  std::string             &why);
+                  std::string             &why,
+                  const bool               checked = true);
     /// The projections of the matrices of this speed, cached per basis,
     /// active set and (speed-dependent) bearing coefficients.
     void
@@ -249,7 +262,7 @@ namespace rotorfit
         return basis == o.basis && k_sigma == o.k_sigma && rpm == o.rpm;
       }
     } key_basis{~0u, 0, -1}, key_tangent{~0u, 0, -1}, key_bearing{~0u, 0, -1};
-    unsigned int full_solves = 0, reduced_solves = 0, reduced_refusals = 0;
+    unsigned int full_solves = 0, reduced_solves = 0, reduced_refusals = 0, reduced_trials = 0;
     double       reduced_worst = 0; ///< worst backward error of a reduced solve
     dealii::DynamicSparsityPattern sparsity;
     RotorMatrices                  matrices;

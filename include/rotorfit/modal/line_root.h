@@ -16,8 +16,11 @@ namespace rotorfit
   {
     double               rpm = 0;
     std::complex<double> lambda; ///< of the line at rpm
-    unsigned int         evaluations = 0; ///< eigen solves
+    unsigned int         evaluations = 0; ///< eigen solves (checked)
+    unsigned int         trials      = 0; ///< unchecked trials on the reduced model
     bool                 converged   = false;
+    /// the checked solve at rpm (empty if none succeeded there)
+    EigenSolution        solution;
   };
 
   /**
@@ -25,10 +28,13 @@ namespace rotorfit
    * line (doc/theory.md 9.7, 9.8): the bracket [a, b] with g(a) = @p ga,
    * g(b) = @p gb of opposite signs; at each trial speed the eigenproblem is
    * solved on @p state's affine law (the later speed's active set: exact
-   * unless a pair opens inside the bracket; on the reduced model where it
-   * passes its checks) and the line is the mode of largest MAC with
-   * @p line_at_b. Converged when the bracket is below 1e-6 of the speed or
-   * |g| <= @p g_tolerance. A failed eigen solve keeps the bracket (logged).
+   * unless a pair opens inside the bracket) and the line is the mode of
+   * largest MAC with @p line_at_b. First on the speed's reduced model
+   * without its full-space checks (PrestressedEigenproblem::solve_trial),
+   * then with checked solves (reduced where they pass, full otherwise)
+   * starting at the root so found. Converged when the bracket is below
+   * 1e-6 of the speed or a checked solve gives |g| <= @p g_tolerance. A
+   * failed eigen solve keeps the bracket (logged).
    */
   LineRoot
   solve_line_root(const WhirlMode                                                 &line_at_b,

@@ -63,6 +63,14 @@ namespace rotorfit
     void
     solve_crossings(const StaticState &state, PrestressedEigenproblem &eigen);
 
+    /// The checked eigen solve at crossing @p i of the last solve_crossings()
+    /// (moved out; empty if the root solve had none at its speed).
+    EigenSolution
+    take_crossing_solution(const unsigned int i)
+    {
+      return i < crossing_solutions.size() ? std::move(crossing_solutions[i]) : EigenSolution();
+    }
+
     /// The modes of a solution off the sweep (a critical speed): whirl
     /// classified, not tracked, no crossings.
     ModalResult
@@ -91,6 +99,7 @@ namespace rotorfit
     WhirlStations             stations;
     ModeTracker               tracker;
     ModalResult               result;
+    std::vector<EigenSolution> crossing_solutions; ///< parallel to result.crossings
     unsigned int              n_critical = 0, n_unsolved = 0;
     bool                      linear_elements = false; ///< Element order 1: locking may split doublets
   };
