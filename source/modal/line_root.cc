@@ -88,8 +88,10 @@ namespace rotorfit
         EigenSolution s;
         if (!eigen.solve_trial(trial, s))
           break;
-        guess           = trial.rpm;
         const double gc = g(line_lambda(line, s), trial.rpm);
+        if (!std::isfinite(gc))
+          break; // the checked stage decides from the last good trial
+        guess = trial.rpm;
         if (std::abs(gc) <= g_tolerance)
           {
             ++root.trials;

@@ -111,7 +111,7 @@ namespace rotorfit
     EigenSolution
     solve(const StaticState &state);
 
-    /// A root-solve trial (doc/theory.md 9.7): the modes of @p state on the
+    /// A root-solve trial (doc/theory.md 9.5, 9.7): the modes of @p state on the
     /// reduced model alone, without the full-space checks, where the
     /// speed's own solve left a basis of its tied set (false otherwise:
     /// nothing solved). Only to locate a root; what is reported there comes
