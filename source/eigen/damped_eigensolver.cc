@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace rotorfit
@@ -305,11 +306,48 @@ namespace rotorfit
                             ComplexVector             *residual,
                             std::complex<double>      *derivative) const
   {
-    const std::size_t n = M.m();
-    ComplexVector     Cp, Kp;
+    ComplexVector Cp, Kp;
     replicated_vmult(M, phi, Mp);
     replicated_vmult(C, phi, Cp);
     replicated_vmult(K, phi, Kp);
+    return (*this)(l, phi, Mp, Cp, Kp, residual, derivative);
+  }
+
+  double
+  BackwardError::mismatch(const ComplexVector &phi,
+                          const ComplexVector &Mp,
+                          const ComplexVector &Cp,
+                          const ComplexVector &Kp) const
+  {
+    double worst = 0;
+    const std::pair<const PETScWrappers::MPI::SparseMatrix *, const ComplexVector *> given[3] = {
+      {&M, &Mp}, {&C, &Cp}, {&K, &Kp}};
+    for (const auto &[A, Ap] : given)
+      {
+        ComplexVector a;
+        replicated_vmult(*A, phi, a);
+        const double norm = std::sqrt(a.re.norm_sqr() + a.im.norm_sqr());
+        a.re -= Ap->re;
+        a.im -= Ap->im;
+        const double d = std::sqrt(a.re.norm_sqr() + a.im.norm_sqr());
+        if (!std::isfinite(d))
+          return std::numeric_limits<double>::infinity();
+        if (d > 0)
+          worst = std::max(worst, d / norm);
+      }
+    return worst;
+  }
+
+  double
+  BackwardError::operator()(const std::complex<double> l,
+                            const ComplexVector       &phi,
+                            const ComplexVector       &Mp,
+                            const ComplexVector       &Cp,
+                            const ComplexVector       &Kp,
+                            ComplexVector             *residual,
+                            std::complex<double>      *derivative) const
+  {
+    const std::size_t          n  = phi.re.size();
     const std::complex<double> l2 = l * l;
     Vector<double>             re(n), im(n);
     for (std::size_t i = 0; i < n; ++i)
@@ -329,12 +367,12 @@ namespace rotorfit
         };
         *derivative = 2. * l * dot(phi, Mp) + dot(phi, Cp);
       }
-    const double scale = (std::norm(l) * norm_M + std::abs(l) * norm_C + norm_K) * norm_phi;
     if (residual != nullptr)
       {
         residual->re = std::move(re);
         residual->im = std::move(im);
       }
+    const double scale = this->scale(l) * norm_phi;
     return scale > 0 ? norm_r / scale : 0.;
   }
 

@@ -55,10 +55,38 @@ namespace rotorfit
     }
   } // namespace
 
+  PrestressedEigenproblem::Expanded
+  PrestressedEigenproblem::expanded(const std::vector<std::vector<std::complex<double>>> &y,
+                                    const double                                          omega,
+                                    const double                                          w,
+                                    const bool transpose) const
+  {
+    const std::size_t n = matrices.mass.m();
+    Expanded          e;
+    for (auto *list : {&e.v, &e.m, &e.c, &e.k})
+      list->assign(y.size(), ComplexVector{Vector<double>(n), Vector<double>(n)});
+    const auto columns = [](std::vector<ComplexVector> &list) {
+      std::vector<ComplexVector *> z;
+      for (auto &x : list)
+        z.push_back(&x);
+      return z;
+    };
+    reduced.multiply(nullptr, y, 1., columns(e.v));
+    reduced.multiply(&av_mass, y, 1., columns(e.m));
+    reduced.multiply(&av_bearing_c, y, 1., columns(e.c));
+    reduced.multiply(&av_gyro, y, transpose ? -omega : omega, columns(e.c)); // G^T = -G
+    reduced.multiply(&av_tangent, y, 1., columns(e.k));
+    reduced.multiply(&av_tangent2, y, w - w_tangent, columns(e.k));
+    return e;
+  }
+
   std::vector<double>
-  PrestressedEigenproblem::error_estimates(const BackwardError                          &backward_error,
-                                           const std::vector<const EigenPair *>         &modes,
-                                           const std::vector<const ReducedBasis::Pair *> &dense) const
+  PrestressedEigenproblem::error_estimates(const std::vector<const EigenPair *>          &modes,
+                                           const std::vector<const ReducedBasis::Pair *> &dense,
+                                           const std::vector<const ComplexVector *>      &residual,
+                                           const std::vector<const ComplexVector *>      &c_phi,
+                                           const double                                   omega,
+                                           const double                                   w) const
   {
     // A Ritz value errs by about s^H Q^-1 r / (y^H Q'(lambda) phi), with the
     // right residual r = Q(lambda) phi and the left one s = Q(lambda)^H y of
@@ -74,30 +102,40 @@ namespace rotorfit
       z.re.add(a.real(), x.re, -a.imag(), x.im);
       z.im.add(a.imag(), x.re, a.real(), x.im);
     };
-    std::vector<ComplexVector>            r(modes.size()), s(modes.size());
-    std::vector<double>                   denominator(modes.size());
-    std::vector<const Vector<double> *>   rhs;
+    // y and Q(lambda)^H y = (conj(lambda)^2 M + conj(lambda) C^T + K_t^T) y:
+    // from the kept products where the bearings are symmetric, otherwise
+    // the sparse transposed products
+    std::vector<std::vector<std::complex<double>>> left;
+    for (const auto *d : dense)
+      left.push_back(d->w);
+    Expanded y;
+    if (bearings.symmetric(last_rpm))
+      y = expanded(left, omega, w, true);
+    else
+      for (const auto &l : left)
+        {
+          y.v.push_back(reduced.expand(l));
+          for (auto *list : {&y.m, &y.c, &y.k})
+            list->emplace_back();
+          replicated_vmult(matrices.mass, y.v.back(), y.m.back());
+          replicated_vmult(damping, y.v.back(), y.c.back(), true);
+          replicated_vmult(tangent, y.v.back(), y.k.back(), true);
+        }
+    std::vector<ComplexVector>          s(modes.size());
+    std::vector<double>                 denominator(modes.size());
+    std::vector<const Vector<double> *> rhs;
     for (std::size_t k = 0; k < modes.size(); ++k)
       {
-        const EigenPair     &p = *modes[k];
-        ComplexVector        m_phi, c_phi;
-        std::complex<double> unused;
-        backward_error(p.lambda, p.phi, m_phi, &r[k], &unused);
-        // s = (conj(lambda)^2 M + conj(lambda) C^T + K^T) y
-        const ComplexVector        y = reduced.expand(dense[k]->w);
+        const EigenPair           &p = *modes[k];
         const std::complex<double> l = std::conj(p.lambda);
-        ComplexVector              my, cy;
-        replicated_vmult(matrices.mass, y, my);
-        replicated_vmult(damping, y, cy, true);
-        replicated_vmult(tangent, y, s[k], true);
-        axpy(l * l, my, s[k]);
-        axpy(l, cy, s[k]);
+        s[k]                         = y.k[k];
+        axpy(l * l, y.m[k], s[k]);
+        axpy(l, y.c[k], s[k]);
         // y^H Q'(lambda) phi = y^H (2 lambda M phi + C phi)
-        replicated_vmult(damping, p.phi, c_phi);
         denominator[k] =
-          std::abs(2. * p.lambda * dot(y, m_phi) + dot(y, c_phi)) * std::abs(p.lambda);
-        for (const auto *v : {&r[k].re, &r[k].im, &s[k].re, &s[k].im})
-          rhs.push_back(v);
+          std::abs(2. * p.lambda * dot(y.v[k], p.m_phi) + dot(y.v[k], *c_phi[k])) *
+          std::abs(p.lambda);
+        rhs.insert(rhs.end(), {&residual[k]->re, &residual[k]->im, &s[k].re, &s[k].im});
       }
     std::vector<Vector<double>> t;
     replicated_solve(eigensolver.linear_solver(), matrices.mass, rhs, t);
@@ -105,7 +143,7 @@ namespace rotorfit
     for (std::size_t k = 0; k < modes.size(); ++k)
       {
         const ComplexVector tr{t[4 * k], t[4 * k + 1]}, ts{t[4 * k + 2], t[4 * k + 3]};
-        const double        norm_r = std::sqrt(std::abs(dot(r[k], tr)));
+        const double        norm_r = std::sqrt(std::abs(dot(*residual[k], tr)));
         const double        norm_s = std::sqrt(std::abs(dot(s[k], ts)));
         estimate[k] = denominator[k] > 0 ? norm_r * norm_s / denominator[k] :
                                            std::numeric_limits<double>::infinity();
@@ -127,25 +165,21 @@ namespace rotorfit
     SpeedOperators op{matrices.mass, damping, tangent, eigensolver.linear_solver(), last_rpm};
     // the reduced model of this speed, for the response: only with the
     // products its projections were made of (freed by a full solve)
-    if (speed_reduced && keep_products && !av_mass.empty())
+    if (speed_reduced && !av_mass.empty())
       {
         op.basis = &reduced;
         op.Mr    = &p_mass;
         op.Cr    = &speed_Cr;
         op.Kr    = &speed_Kr;
         const double omega = SpeedSchedule::rpm_to_rad_per_s(last_rpm), dw = omega * omega - w_tangent;
-        op.products = [this, omega, dw](const std::vector<std::complex<double>> &y,
-                                        ComplexVector                           &Mu,
-                                        ComplexVector                           &Cu,
-                                        ComplexVector                           &Ku) {
-          const std::size_t n = matrices.mass.m();
-          for (auto *z : {&Mu, &Cu, &Ku})
-            *z = {Vector<double>(n), Vector<double>(n)};
-          reduced.apply(av_mass, y, 1., Mu);
-          reduced.apply(av_bearing_c, y, 1., Cu);
-          reduced.apply(av_gyro, y, omega, Cu);
-          reduced.apply(av_tangent, y, 1., Ku);
-          reduced.apply(av_tangent2, y, dw, Ku);
+        op.products = [this, omega](const std::vector<std::complex<double>> &y,
+                                    ComplexVector                           &Mu,
+                                    ComplexVector                           &Cu,
+                                    ComplexVector                           &Ku) {
+          Expanded e = expanded({y}, omega, omega * omega, false);
+          Mu         = std::move(e.m[0]);
+          Cu         = std::move(e.c[0]);
+          Ku         = std::move(e.k[0]);
         };
         op.row_products = [this, omega, dw](const Vector<double> &x,
                                             std::vector<double>  &m_row,
@@ -235,11 +269,10 @@ namespace rotorfit
   {
     const unsigned int v = reduced.version();
     const unsigned int m = reduced.size();
-    const auto keep = [this](std::vector<double> &av) { return keep_products ? &av : nullptr; };
     if (!(key_basis == ProjectionKey{v, 0, -1}))
       {
-        p_mass    = reduced.project(matrices.mass, keep(av_mass));
-        p_gyro    = reduced.project(matrices.gyroscopic, keep(av_gyro));
+        p_mass    = reduced.project(matrices.mass, &av_mass);
+        p_gyro    = reduced.project(matrices.gyroscopic, &av_gyro);
         key_basis = {v, 0, -1};
       }
     // K_t = K_t0 + w K_t2 on an active set's affine law (doc/theory.md B):
@@ -255,16 +288,16 @@ namespace rotorfit
         av_tangent2.clear();
         if (stiffening == StressStiffening::full && state.decomposition().affine)
           {
-            p_tangent2 = reduced.project(k_sigma_C, keep(av_tangent2));
+            p_tangent2 = reduced.project(k_sigma_C, &av_tangent2);
             if (convective_term)
               {
                 std::vector<double> convective;
-                p_tangent2.add(-1., reduced.project(matrices.convective, keep(convective)));
+                p_tangent2.add(-1., reduced.project(matrices.convective, &convective));
                 for (std::size_t i = 0; i < convective.size(); ++i)
                   av_tangent2[i] -= convective[i];
               }
           }
-        p_tangent0 = reduced.project(tangent, keep(av_tangent));
+        p_tangent0 = reduced.project(tangent, &av_tangent);
         p_tangent0.add(-state.w(), p_tangent2);
         w_tangent = state.w();
         key_tangent = tangent_key;
@@ -272,7 +305,7 @@ namespace rotorfit
     const ProjectionKey bearing_key{v, 0, bearings.speed_dependent() ? state.rpm : -1};
     if (!(key_bearing == bearing_key))
       {
-        p_bearing_c = reduced.project(bearing_c, keep(av_bearing_c));
+        p_bearing_c = reduced.project(bearing_c, &av_bearing_c);
         key_bearing = bearing_key;
       }
   }
@@ -312,26 +345,60 @@ namespace rotorfit
 
     // the nev eigenvalues nearest the shift, conjugates counted twice, as
     // the full solve picks them
-    const BackwardError    backward_error(matrices.mass, damping, tangent);
-    std::vector<EigenPair> pairs;
-    double                 radius = 0;
+    std::vector<std::size_t>                       picked;
+    std::vector<std::vector<std::complex<double>>> y;
     for (unsigned int count = 0, k = 0; count < nev && k < all.size(); ++k)
       {
-        EigenPair p;
-        p.lambda = all[k].lambda;
-        p.phi    = reduced.expand(all[k].y);
-        const double scale = std::sqrt(p.phi.re.norm_sqr() + p.phi.im.norm_sqr());
+        picked.push_back(k);
+        y.push_back(all[k].y);
+        count += all[k].lambda.imag() != 0 ? 2 : 1;
+      }
+    // phi = V y and M phi, C phi, K_t phi from the kept products A V: a
+    // dense product for all modes at once instead of sparse ones per mode
+    Expanded                   x = expanded(y, omega, state.w(), false);
+    const BackwardError        backward_error(matrices.mass, damping, tangent);
+    std::vector<EigenPair>     pairs;
+    std::vector<ComplexVector> residual(picked.size());
+    // the products are checked against this speed's sparse matrices on one
+    // combination of the modes: the checks on the full matrices rest on them
+    const std::size_t n = matrices.mass.m();
+    ComplexVector     sum[4];
+    for (auto &z : sum)
+      z = {Vector<double>(checked ? n : 0), Vector<double>(checked ? n : 0)};
+    double radius = 0;
+    for (std::size_t i = 0; i < picked.size(); ++i)
+      {
+        const double scale = std::sqrt(x.v[i].re.norm_sqr() + x.v[i].im.norm_sqr());
         if (!(scale > 0))
           continue;
-        p.phi.re /= scale;
-        p.phi.im /= scale;
+        ComplexVector *part[4] = {&x.v[i], &x.m[i], &x.c[i], &x.k[i]};
+        for (unsigned int j = 0; j < 4; ++j)
+          {
+            ComplexVector &z = *part[j];
+            z.re /= scale, z.im /= scale;
+            if (checked)
+              sum[j].re += z.re, sum[j].im += z.im;
+          }
+        EigenPair p;
+        p.lambda = all[picked[i]].lambda;
+        p.phi    = std::move(x.v[i]);
+        p.m_phi  = std::move(x.m[i]);
         if (checked)
-          p.backward_error = backward_error(p.lambda, p.phi, p.m_phi);
-        else
-          replicated_vmult(matrices.mass, p.phi, p.m_phi); // for the MAC; no residual
+          p.backward_error =
+            backward_error(p.lambda, p.phi, p.m_phi, x.c[i], x.k[i], &residual[i]);
         radius = std::max(radius, std::abs(p.lambda - sigma));
-        count += p.lambda.imag() != 0 ? 2 : 1;
         pairs.push_back(std::move(p));
+      }
+    std::ostringstream reason;
+    double             mismatch = 0;
+    if (checked && !pairs.empty())
+      {
+        // relative to the products: rounding with the cancellation in
+        // K_t phi of a low mode stays below 1e-10
+        mismatch = backward_error.mismatch(sum[0], sum[1], sum[2], sum[3]);
+        if (!(mismatch <= 1e-8))
+          reason << "the reduced model's products differ from this speed's matrices by "
+                 << std::setprecision(3) << mismatch << " (relative)";
       }
 
     // a mode outside the basis (beyond the anchor's radius) moves at most
@@ -344,8 +411,7 @@ namespace rotorfit
         if (radius + d - a.radius < reach)
           reach = radius + d - a.radius, anchor_rpm = a.rpm, anchor_radius = a.radius;
       }
-    std::ostringstream reason;
-    if (!(reach < 0))
+    if (reason.str().empty() && !(reach < 0))
       reason << "the modes kept reach " << std::setprecision(4) << radius / (2 * M_PI)
              << " Hz from the shift; a mode outside the basis may have moved "
              << (reach - radius + anchor_radius) / (2 * M_PI) << " Hz since the anchor at "
@@ -367,15 +433,20 @@ namespace rotorfit
       {
         std::vector<const EigenPair *>          wanted;
         std::vector<const ReducedBasis::Pair *> dense;
+        std::vector<const ComplexVector *>      r, c_phi;
         for (unsigned int i = 0; i < std::min<std::size_t>(n_wanted, solution.elastic.size()); ++i)
           {
             // its dense pair: the eigenvalue was copied from it unchanged
             wanted.push_back(&solution.elastic[i]);
-            dense.push_back(&*std::find_if(all.begin(), all.end(), [&](const auto &d) {
-              return d.lambda == solution.elastic[i].lambda;
-            }));
+            const auto j = std::find_if(picked.begin(), picked.end(), [&](std::size_t k) {
+              return all[k].lambda == solution.elastic[i].lambda;
+            }) - picked.begin();
+            dense.push_back(&all[picked[j]]);
+            r.push_back(&residual[j]);
+            c_phi.push_back(&x.c[j]);
           }
-        const std::vector<double> estimate = error_estimates(backward_error, wanted, dense);
+        const std::vector<double> estimate =
+          error_estimates(wanted, dense, r, c_phi, omega, state.w());
         for (unsigned int i = 0; i < solution.elastic.size(); ++i)
           {
             // (beyond the wanted modes: no estimate, and they are dropped)
@@ -411,7 +482,8 @@ namespace rotorfit
                 .lambda.imag() /
               (2 * M_PI)
          << " Hz, max backward error " << std::setprecision(2) << worst
-         << ", max estimated error " << worst_estimate << "; " << std::setprecision(3)
+         << ", max estimated error " << worst_estimate << ", products checked to " << mismatch
+         << "; " << std::setprecision(3)
          << elapsed() << " s (" << t_projections << " s projections, " << t_modes - t_projections
          << " s dense solve + residuals, " << t_estimate - t_modes << " s estimates)\n";
     log << line.str();

@@ -67,7 +67,8 @@ namespace rotorfit
   void
   ReducedBasis::clear()
   {
-    basis.clear();
+    flat.clear();
+    columns = 0;
     anchors.clear();
     ++serial;
   }
@@ -77,13 +78,11 @@ namespace rotorfit
                                 const PETScWrappers::MPI::SparseMatrix &M,
                                 Vector<double>                         &mv) const
   {
-    const int n = v.size(), m = basis.size(), one = 1;
+    const int n = v.size(), m = columns, one = 1;
     if (m == 0)
       return;
     const double        plus = 1, minus = -1, zero = 0;
-    std::vector<double> flat(static_cast<std::size_t>(n) * m), c(m);
-    for (int j = 0; j < m; ++j)
-      std::copy(basis[j].begin(), basis[j].end(), flat.begin() + std::size_t(j) * n);
+    std::vector<double> c(m);
     // classical Gram-Schmidt twice in the M inner product (V is M-orthonormal)
     for (unsigned int pass = 0; pass < 2; ++pass)
       {
@@ -96,9 +95,12 @@ namespace rotorfit
   std::vector<double>
   ReducedBasis::coefficients(const Vector<double> &x) const
   {
-    std::vector<double> c(basis.size());
-    for (std::size_t j = 0; j < basis.size(); ++j)
-      c[j] = basis[j] * x;
+    std::vector<double> c(columns);
+    if (columns == 0)
+      return c;
+    const int    n = rows, m = columns, one = 1;
+    const double plus = 1, zero = 0;
+    dgemv_("T", &n, &m, &plus, flat.data(), &n, x.data(), &one, &zero, c.data(), &one);
     return c;
   }
 
@@ -116,30 +118,46 @@ namespace rotorfit
     if (Utilities::MPI::min(norm > 1e-10 * first ? 1 : 0, M.get_mpi_communicator()) == 0)
       return false;
     v /= norm;
-    basis.push_back(std::move(v));
+    rows = v.size();
+    flat.insert(flat.end(), v.begin(), v.end());
+    ++columns;
     ++serial;
     return true;
   }
 
   void
-  ReducedBasis::apply(const std::vector<double>               &P,
-                      const std::vector<std::complex<double>> &y,
-                      const std::complex<double>               a,
-                      ComplexVector                           &z) const
+  ReducedBasis::multiply(const std::vector<double>                            *P,
+                         const std::vector<std::vector<std::complex<double>>> &y,
+                         const double                                          a,
+                         const std::vector<ComplexVector *>                   &z) const
   {
-    const int m = basis.size();
-    if (m == 0 || P.empty())
+    const std::vector<double> &A = P ? *P : flat;
+    const int                  m = columns, k = y.size();
+    if (m == 0 || k == 0 || A.empty())
       return;
-    const int           n = P.size() / m, one = 1;
-    const double        plus = 1;
-    std::vector<double> re(m), im(m);
-    for (int j = 0; j < m; ++j)
+    // one pass over A: [A y_re | A y_im] = A [Y_re | Y_im] (dgemm)
+    const int           n = A.size() / m, two_k = 2 * k;
+    std::vector<double> b(static_cast<std::size_t>(m) * two_k), out(std::size_t(n) * two_k);
+    for (int c = 0; c < k; ++c)
+      for (int j = 0; j < m; ++j)
+        {
+          b[j + std::size_t(c) * m]     = y[c][j].real();
+          b[j + std::size_t(k + c) * m] = y[c][j].imag();
+        }
+    const double one = 1, zero = 0;
+    dgemm_("N", "N", &n, &two_k, &m, &one, A.data(), &n, b.data(), &m, &zero, out.data(), &n);
+    for (int c = 0; c < k; ++c)
       {
-        const std::complex<double> c = a * y[j];
-        re[j] = c.real(), im[j] = c.imag();
+        ComplexVector &t = *z[c];
+        if (t.re.size() != static_cast<std::size_t>(n))
+          t = {Vector<double>(n), Vector<double>(n)};
+        const double *re = out.data() + std::size_t(c) * n, *im = re + std::size_t(k) * n;
+        for (int i = 0; i < n; ++i)
+          {
+            t.re[i] += a * re[i];
+            t.im[i] += a * im[i];
+          }
       }
-    dgemv_("N", &n, &m, &plus, P.data(), &n, re.data(), &one, &plus, z.re.data(), &one);
-    dgemv_("N", &n, &m, &plus, P.data(), &n, im.data(), &one, &plus, z.im.data(), &one);
   }
 
   void
@@ -148,7 +166,7 @@ namespace rotorfit
                                 const double               a,
                                 std::vector<double>       &c) const
   {
-    const int m = basis.size();
+    const int m = columns;
     c.resize(m, 0.);
     if (m == 0 || P.empty())
       return;
@@ -161,17 +179,18 @@ namespace rotorfit
   ReducedBasis::project(const PETScWrappers::MPI::SparseMatrix &A,
                         std::vector<double>                    *products) const
   {
-    const int m = basis.size();
+    const int m = columns;
     FullMatrix<double> P(m, m);
     if (m == 0)
       return P;
-    const int           n = basis[0].size();
-    std::vector<double> flat(static_cast<std::size_t>(n) * m), av(flat.size());
-    Vector<double>      y;
+    const int           n = rows;
+    std::vector<double> av(flat.size());
+    Vector<double>      x(n), y;
     for (int j = 0; j < m; ++j)
       {
-        std::copy(basis[j].begin(), basis[j].end(), flat.begin() + std::size_t(j) * n);
-        replicated_vmult(A, basis[j], y);
+        std::copy(flat.begin() + std::size_t(j) * n, flat.begin() + std::size_t(j + 1) * n,
+                  x.begin());
+        replicated_vmult(A, x, y);
         std::copy(y.begin(), y.end(), av.begin() + std::size_t(j) * n);
       }
     std::vector<double> p(static_cast<std::size_t>(m) * m);
@@ -260,13 +279,8 @@ namespace rotorfit
   ComplexVector
   ReducedBasis::expand(const std::vector<std::complex<double>> &y) const
   {
-    const std::size_t n = basis.empty() ? 0 : basis[0].size();
-    ComplexVector     phi{Vector<double>(n), Vector<double>(n)};
-    for (std::size_t j = 0; j < basis.size(); ++j)
-      {
-        phi.re.add(y[j].real(), basis[j]);
-        phi.im.add(y[j].imag(), basis[j]);
-      }
+    ComplexVector phi{Vector<double>(rows), Vector<double>(rows)};
+    multiply(nullptr, {y}, 1., {&phi});
     return phi;
   }
 } // namespace rotorfit

@@ -67,7 +67,6 @@ namespace rotorfit
     eigen.parse_parameters(prm, prm_directory, statics.spin_softening_on());
     modal.parse_parameters(prm);
     response.parse_parameters(prm, eigen.enabled());
-    eigen.keep_reduced_products(response.enabled());
     results.parse_parameters(prm, output_override);
     results.check_speeds(speeds.speeds_rpm());
     refinement.parse_parameters(prm, model.mesh().hexahedral());

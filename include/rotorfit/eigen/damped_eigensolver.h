@@ -51,6 +51,33 @@ namespace rotorfit
                ComplexVector             *residual   = nullptr,
                std::complex<double>      *derivative = nullptr) const;
 
+    /// The same from M phi, C phi and K phi at hand (the reduced model's
+    /// products).
+    double
+    operator()(const std::complex<double> lambda,
+               const ComplexVector       &phi,
+               const ComplexVector       &Mp,
+               const ComplexVector       &Cp,
+               const ComplexVector       &Kp,
+               ComplexVector             *residual   = nullptr,
+               std::complex<double>      *derivative = nullptr) const;
+
+    /// max over A = M, C, K of |A phi - Ap| / |A phi|: how far products
+    /// taken elsewhere are from these matrices' own.
+    double
+    mismatch(const ComplexVector &phi,
+             const ComplexVector &Mp,
+             const ComplexVector &Cp,
+             const ComplexVector &Kp) const;
+
+    /// |lambda|^2 |M| + |lambda| |C| + |K| (Frobenius norms): a residual
+    /// divided by this and |phi| is the backward error.
+    double
+    scale(const std::complex<double> lambda) const
+    {
+      return std::norm(lambda) * norm_M + std::abs(lambda) * norm_C + norm_K;
+    }
+
   private:
     const dealii::PETScWrappers::MPI::SparseMatrix &M, &C, &K;
     const double                                    norm_M, norm_C, norm_K;

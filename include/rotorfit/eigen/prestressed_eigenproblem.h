@@ -89,12 +89,10 @@ namespace rotorfit
     double
     state_vectors_needed(const double n_dofs) const
     {
-      // the reduced model: its basis and two work copies in the projection
-      // (n-vectors, half a state vector each), and A V of five matrices kept
-      // for the response
-      const double basis = reduced.enabled() ? (keep_products ? 4. : 1.5) *
-                                                 reduced.capacity(max_nev + 2 * reduced.margin()) :
-                                               0.;
+      // the reduced model: its basis and A V of five matrices (n-vectors,
+      // half a state vector each)
+      const double basis =
+        reduced.enabled() ? 4. * reduced.capacity(max_nev + 2 * reduced.margin()) : 0.;
       return std::min<double>(2 * n_dofs, eigensolver.krylov_size(max_nev, 2)) + max_nev + 1 +
              basis;
     }
@@ -130,11 +128,11 @@ namespace rotorfit
       double                                          rpm;
       /// The reduced model this speed was solved on, V^T M V, V^T C V and
       /// V^T K_t V at this speed, and the products below; null after a full
-      /// solve or without keep_reduced_products().
+      /// solve.
       const ReducedBasis               *basis = nullptr;
       const dealii::FullMatrix<double> *Mr = nullptr, *Cr = nullptr, *Kr = nullptr;
       /// M V y, C V y, K_t V y from the products kept with the projections
-      /// (rounded as the projections were: keep_reduced_products())
+      /// (rounded as the projections were)
       std::function<void(const std::vector<std::complex<double>> &y,
                          ComplexVector                           &Mu,
                          ComplexVector                           &Cu,
@@ -149,14 +147,6 @@ namespace rotorfit
     };
     SpeedOperators
     operators();
-
-    /// Keep A V with the reduced projections (5 n x m doubles) for
-    /// operators().products: the unbalance response uses them.
-    void
-    keep_reduced_products(const bool keep)
-    {
-      keep_products = keep;
-    }
 
     /// Log the totals, add the eigen entries to @p summary.
     void
@@ -206,11 +196,28 @@ namespace rotorfit
     /// active set and (speed-dependent) bearing coefficients.
     void
     update_projections(const StaticState &state);
-    /// Estimated relative errors of reduced modes' eigenvalues.
+    /// V y_c and M V y_c, C V y_c, K_t V y_c at @p omega, @p w = omega^2
+    /// from the products A V kept with the projections (one dgemm per
+    /// matrix for all columns); C^T and K_t^T for @p transpose (symmetric
+    /// bearings only: then C^T = C_b - omega G, K_t^T = K_t).
+    struct Expanded
+    {
+      std::vector<ComplexVector> v, m, c, k;
+    };
+    Expanded
+    expanded(const std::vector<std::vector<std::complex<double>>> &y,
+             const double                                          omega,
+             const double                                          w,
+             const bool                                            transpose) const;
+    /// Estimated relative errors of reduced modes' eigenvalues, from their
+    /// residuals and C phi.
     std::vector<double>
-    error_estimates(const BackwardError                           &backward_error,
-                    const std::vector<const EigenPair *>          &modes,
-                    const std::vector<const ReducedBasis::Pair *> &dense) const;
+    error_estimates(const std::vector<const EigenPair *>          &modes,
+                    const std::vector<const ReducedBasis::Pair *> &dense,
+                    const std::vector<const ComplexVector *>      &residual,
+                    const std::vector<const ComplexVector *>      &c_phi,
+                    const double                                   omega,
+                    const double                                   w) const;
     /// A full solve's converged eigenvectors into the basis.
     void
     add_anchor(const double rpm, const std::vector<EigenPair> &pairs, const bool lasting);
@@ -246,11 +253,10 @@ namespace rotorfit
     /// the reduced C and K_t of the latest speed, if it was solved reduced
     dealii::FullMatrix<double> speed_Cr, speed_Kr;
     bool                       speed_reduced = false;
-    /// A V of the projections (column-major; empty unless keep_products),
-    /// the tangent's at w_tangent
+    /// A V of the projections (column-major), the tangent's at w_tangent:
+    /// a reduced speed's residuals and the response are made of them
     std::vector<double> av_mass, av_gyro, av_tangent, av_tangent2, av_bearing_c;
-    double              w_tangent     = 0;
-    bool                keep_products = false;
+    double              w_tangent = 0;
     /// what the projections were made for
     struct ProjectionKey
     {

@@ -77,7 +77,7 @@ namespace rotorfit
     unsigned int
     size() const
     {
-      return basis.size();
+      return columns;
     }
 
     /// Changes whenever the basis does (projections are cached against it).
@@ -108,12 +108,14 @@ namespace rotorfit
     project(const dealii::PETScWrappers::MPI::SparseMatrix &A,
             std::vector<double>                            *products = nullptr) const;
 
-    /// z += a P y for products P = A V kept by project().
+    /// z_c += a P y_c for every column y_c (one dgemm, one pass over P):
+    /// P = A V kept by project(), or V itself for P = nullptr; a z_c of
+    /// the wrong size is first set to zero of size n.
     void
-    apply(const std::vector<double>               &P,
-          const std::vector<std::complex<double>> &y,
-          const std::complex<double>               a,
-          ComplexVector                           &z) const;
+    multiply(const std::vector<double>                            *P,
+             const std::vector<std::vector<std::complex<double>>> &y,
+             const double                                          a,
+             const std::vector<ComplexVector *>                   &z) const;
 
     /// c += a P^T x (= a (A V)^T x) for products P kept by project().
     void
@@ -156,7 +158,10 @@ namespace rotorfit
     unsigned int extra_modes        = 6;
     double       max_slope          = 2;
 
-    std::vector<dealii::Vector<double>> basis;
-    unsigned int                        serial = 0;
+    /// V, n x m column-major (one block: dgemv and dgemm read it directly)
+    std::vector<double> flat;
+    std::size_t         rows    = 0;
+    unsigned int        columns = 0;
+    unsigned int        serial  = 0;
   };
 } // namespace rotorfit
