@@ -23,8 +23,9 @@ namespace rotorfit
 
   namespace
   {
-    /// The dense eigenpairs of rank 0 on every rank, so that every rank
-    /// takes the same decisions (and makes the same collective calls).
+    /// The dense eigenpairs (eigenvalue, right and left vectors) of rank 0
+    /// on every rank, so that every rank takes the same decisions (and
+    /// makes the same collective calls).
     void
     broadcast(std::vector<ReducedBasis::Pair> &pairs, const unsigned int m, const MPI_Comm comm)
     {
@@ -32,25 +33,34 @@ namespace rotorfit
         return;
       unsigned long count = pairs.size();
       MPI_Bcast(&count, 1, MPI_UNSIGNED_LONG, 0, comm);
-      std::vector<double> flat(count * (2 + 2 * m));
+      const std::size_t   stride = 2 + 4 * m;
+      std::vector<double> flat(count * stride);
       if (Utilities::MPI::this_mpi_process(comm) == 0)
         for (std::size_t k = 0; k < count; ++k)
           {
-            double *f = flat.data() + k * (2 + 2 * m);
+            double *f = flat.data() + k * stride;
             f[0]      = pairs[k].lambda.real();
             f[1]      = pairs[k].lambda.imag();
             for (unsigned int i = 0; i < m; ++i)
-              f[2 + 2 * i] = pairs[k].y[i].real(), f[3 + 2 * i] = pairs[k].y[i].imag();
+              {
+                f[2 + 2 * i] = pairs[k].y[i].real(), f[3 + 2 * i] = pairs[k].y[i].imag();
+                f[2 + 2 * m + 2 * i] = pairs[k].w[i].real();
+                f[3 + 2 * m + 2 * i] = pairs[k].w[i].imag();
+              }
           }
       MPI_Bcast(flat.data(), flat.size(), MPI_DOUBLE, 0, comm);
       pairs.assign(count, {});
       for (std::size_t k = 0; k < count; ++k)
         {
-          const double *f = flat.data() + k * (2 + 2 * m);
+          const double *f = flat.data() + k * stride;
           pairs[k].lambda = {f[0], f[1]};
           pairs[k].y.resize(m);
+          pairs[k].w.resize(m);
           for (unsigned int i = 0; i < m; ++i)
-            pairs[k].y[i] = {f[2 + 2 * i], f[3 + 2 * i]};
+            {
+              pairs[k].y[i] = {f[2 + 2 * i], f[3 + 2 * i]};
+              pairs[k].w[i] = {f[2 + 2 * m + 2 * i], f[3 + 2 * m + 2 * i]};
+            }
         }
     }
   } // namespace
