@@ -778,7 +778,8 @@ def check_reduced(exe, prm, out, freq_tol, zeta_tol, *sets):
     (relative), the same lines (tracked id, whirl) and critical speeds (speed
     and frequency within FREQ_TOL, damping ratio within ZETA_TOL, every one
     solved); the reduced run must have served speeds from the reduced model
-    and the full one none."""
+    and the full one none; its largest error estimate within 10 x of the
+    observed differences (above their 1e-9 print resolution)."""
     full, red = os.path.join(out, "full"), os.path.join(out, "reduced")
     run_test.run(exe, prepare(prm, full, [*sets, "Eigenproblem/Reduced model=false"]))
     run_test.run(exe, prepare(prm, red, [*sets, "Eigenproblem/Reduced model=true"]))
@@ -815,6 +816,16 @@ def check_reduced(exe, prm, out, freq_tol, zeta_tol, *sets):
     good = worst_f <= 10 * promised and worst_dz <= 10 * promised
     print(f"against the Reduced tolerance {promised:g}: frequency {worst_f:.3e}, damping ratio "
           f"{worst_dz:.3e} absolute (limit {10 * promised:g})", "ok" if good else "FAILED")
+    ok &= good
+    # and it is sharp: a first-order estimate of |d lambda| / |lambda| is of
+    # the size of the observed differences, within 10 x, above campbell.csv's
+    # resolution (10 significant digits: 1e-9). An estimate far above them
+    # (wrong left vectors, say) would refuse speeds the reduced model serves.
+    estimate = summary_number(red, "eigen.reduced_worst_error_estimate")
+    observed = max(worst_f, worst_dz, 1e-9)
+    good = estimate is not None and estimate <= 10 * observed
+    print(f"largest error estimate {estimate} against the observed {observed:.3e} (floor 1e-9): "
+          f"within 10 x", "ok" if good else "FAILED")
     ok &= good
     print(f"rows with another whirl or line: {labels}", "ok" if labels == 0 else "FAILED")
     ok &= labels == 0

@@ -317,7 +317,8 @@ namespace rotorfit
   BackwardError::mismatch(const ComplexVector &phi,
                           const ComplexVector &Mp,
                           const ComplexVector &Cp,
-                          const ComplexVector &Kp) const
+                          const ComplexVector &Kp,
+                          const bool           transpose) const
   {
     double worst = 0;
     const std::pair<const PETScWrappers::MPI::SparseMatrix *, const ComplexVector *> given[3] = {
@@ -325,7 +326,7 @@ namespace rotorfit
     for (const auto &[A, Ap] : given)
       {
         ComplexVector a;
-        replicated_vmult(*A, phi, a);
+        replicated_vmult(*A, phi, a, transpose);
         const double norm = std::sqrt(a.re.norm_sqr() + a.im.norm_sqr());
         a.re -= Ap->re;
         a.im -= Ap->im;

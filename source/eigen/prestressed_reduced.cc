@@ -91,7 +91,8 @@ namespace rotorfit
   }
 
   std::vector<double>
-  PrestressedEigenproblem::error_estimates(const std::vector<const EigenPair *>          &modes,
+  PrestressedEigenproblem::error_estimates(const BackwardError                           &backward_error,
+                                           const std::vector<const EigenPair *>          &modes,
                                            const std::vector<const ReducedBasis::Pair *> &dense,
                                            const std::vector<const ComplexVector *>      &residual,
                                            const std::vector<const ComplexVector *>      &c_phi,
@@ -112,24 +113,28 @@ namespace rotorfit
       z.re.add(a.real(), x.re, -a.imag(), x.im);
       z.im.add(a.imag(), x.re, a.real(), x.im);
     };
-    // y and Q(lambda)^H y = (conj(lambda)^2 M + conj(lambda) C^T + K_t^T) y:
-    // from the kept products where the bearings are symmetric, otherwise
-    // the sparse transposed products
+    // y and Q(lambda)^H y = (conj(lambda)^2 M + conj(lambda) C^T + K_t^T) y
+    // from the kept products with C^T = C_b - omega G and K_t^T = K_t, where
+    // the sparse transposed products on their sum agree (not so with
+    // cross-coupled bearings: then the sparse products for each)
     std::vector<std::vector<std::complex<double>>> left;
     for (const auto *d : dense)
       left.push_back(d->w);
-    Expanded y;
-    if (bearings.symmetric(last_rpm))
-      y = expanded(left, omega, w, true);
-    else
-      for (const auto &l : left)
+    Expanded y = expanded(left, omega, w, true);
+    ComplexVector sum[4];
+    for (unsigned int j = 0; j < 4; ++j)
+      {
+        const std::vector<ComplexVector> &part = j == 0 ? y.v : j == 1 ? y.m : j == 2 ? y.c : y.k;
+        sum[j] = part.front();
+        for (std::size_t k = 1; k < part.size(); ++k)
+          sum[j].re += part[k].re, sum[j].im += part[k].im;
+      }
+    if (!(backward_error.mismatch(sum[0], sum[1], sum[2], sum[3], true) <= 1e-8))
+      for (std::size_t k = 0; k < left.size(); ++k)
         {
-          y.v.push_back(reduced.expand(l));
-          for (auto *list : {&y.m, &y.c, &y.k})
-            list->emplace_back();
-          replicated_vmult(matrices.mass, y.v.back(), y.m.back());
-          replicated_vmult(damping, y.v.back(), y.c.back(), true);
-          replicated_vmult(tangent, y.v.back(), y.k.back(), true);
+          replicated_vmult(matrices.mass, y.v[k], y.m[k]);
+          replicated_vmult(damping, y.v[k], y.c[k], true);
+          replicated_vmult(tangent, y.v[k], y.k[k], true);
         }
     std::vector<ComplexVector>          s(modes.size());
     std::vector<double>                 denominator(modes.size());
@@ -456,7 +461,7 @@ namespace rotorfit
             c_phi.push_back(&x.c[j]);
           }
         const std::vector<double> estimate =
-          error_estimates(wanted, dense, r, c_phi, omega, state.w());
+          error_estimates(backward_error, wanted, dense, r, c_phi, omega, state.w());
         for (unsigned int i = 0; i < solution.elastic.size(); ++i)
           {
             // (beyond the wanted modes: no estimate, and they are dropped)

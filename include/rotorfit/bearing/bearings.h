@@ -73,10 +73,6 @@ namespace rotorfit
     bool
     speed_dependent() const;
 
-    /// Whether K_b and C_b are symmetric at @p rpm (kxy = kyx, cxy = cyx).
-    bool
-    symmetric(const double rpm) const;
-
     /// Add K_b and C_b at @p rpm into @p k and @p c (locally owned rows).
     void
     assemble(const double                              rpm,

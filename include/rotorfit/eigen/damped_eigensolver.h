@@ -62,13 +62,15 @@ namespace rotorfit
                ComplexVector             *residual   = nullptr,
                std::complex<double>      *derivative = nullptr) const;
 
-    /// max over A = M, C, K of |A phi - Ap| / |A phi|: how far products
-    /// taken elsewhere are from these matrices' own.
+    /// max over A = M, C, K of |A phi - Ap| / |A phi| (A^T for
+    /// @p transpose): how far products taken elsewhere are from these
+    /// matrices' own.
     double
     mismatch(const ComplexVector &phi,
              const ComplexVector &Mp,
              const ComplexVector &Cp,
-             const ComplexVector &Kp) const;
+             const ComplexVector &Kp,
+             const bool           transpose = false) const;
 
     /// |lambda|^2 |M| + |lambda| |C| + |K| (Frobenius norms): a residual
     /// divided by this and |phi| is the backward error.

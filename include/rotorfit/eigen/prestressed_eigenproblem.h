@@ -198,8 +198,8 @@ namespace rotorfit
     update_projections(const StaticState &state);
     /// V y_c and M V y_c, C V y_c, K_t V y_c at @p omega, @p w = omega^2
     /// from the products A V kept with the projections (one dgemm per
-    /// matrix for all columns); C^T and K_t^T for @p transpose (symmetric
-    /// bearings only: then C^T = C_b - omega G, K_t^T = K_t).
+    /// matrix for all columns); for @p transpose C_b - omega G and K_t,
+    /// which are C^T and K_t^T where the bearings are symmetric.
     struct Expanded
     {
       std::vector<ComplexVector> v, m, c, k;
@@ -212,7 +212,8 @@ namespace rotorfit
     /// Estimated relative errors of reduced modes' eigenvalues, from their
     /// residuals and C phi.
     std::vector<double>
-    error_estimates(const std::vector<const EigenPair *>          &modes,
+    error_estimates(const BackwardError                           &backward_error,
+                    const std::vector<const EigenPair *>          &modes,
                     const std::vector<const ReducedBasis::Pair *> &dense,
                     const std::vector<const ComplexVector *>      &residual,
                     const std::vector<const ComplexVector *>      &c_phi,
