@@ -174,8 +174,18 @@ namespace rotorfit
       }
     bearings.add_sparsity(sparsity);
     matrices.reinit(model.locally_owned_dofs(), sparsity, comm);
-    for (auto *m : {&bearing_k, &bearing_c, &tangent, &damping, &shifted})
+    for (auto *m : {&tangent, &damping, &shifted})
       matrices.reinit_like(*m);
+    // the bearing matrices on their stations' blocks alone (a subset of the
+    // pattern above): not two more copies of the full pattern, and their
+    // products and projections cost next to nothing
+    {
+      DynamicSparsityPattern stations(dof_handler.n_dofs(), dof_handler.n_dofs(),
+                                      model.locally_owned_dofs());
+      bearings.add_sparsity(stations);
+      for (auto *m : {&bearing_k, &bearing_c})
+        m->reinit(model.locally_owned_dofs(), model.locally_owned_dofs(), stations, comm);
+    }
 
     // more modes than the model has
     std::vector<bool>  loose;
@@ -297,16 +307,16 @@ namespace rotorfit
 
     // K_t = K + K_b + K_c (+ K_sigma (- Omega^2 K_theta))
     MatCopy(matrices.stiffness, tangent, SAME_NONZERO_PATTERN);
-    MatAXPY(tangent, 1., bearing_k, SAME_NONZERO_PATTERN);
+    MatAXPY(tangent, 1., bearing_k, SUBSET_NONZERO_PATTERN);
     if (stiffening != StressStiffening::off)
       add_stress_stiffness(state);
     add_contact_ties(state, tied);
     tangent.compress(VectorOperation::add);
 
     // C = C_b + Omega G
-    MatCopy(bearing_c, damping, SAME_NONZERO_PATTERN);
-    MatAXPY(damping, SpeedSchedule::rpm_to_rad_per_s(state.rpm), matrices.gyroscopic,
-            SAME_NONZERO_PATTERN);
+    MatCopy(matrices.gyroscopic, damping, SAME_NONZERO_PATTERN);
+    MatScale(damping, SpeedSchedule::rpm_to_rad_per_s(state.rpm));
+    MatAXPY(damping, 1., bearing_c, SUBSET_NONZERO_PATTERN);
   }
 
   void
