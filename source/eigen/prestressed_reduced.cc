@@ -98,6 +98,21 @@ namespace rotorfit
     return e;
   }
 
+  double
+  PrestressedEigenproblem::Expanded::mismatch(const BackwardError &backward_error,
+                                              const bool           transpose) const
+  {
+    ComplexVector sum[4];
+    const std::vector<ComplexVector> *part[4] = {&v, &m, &c, &k};
+    for (unsigned int j = 0; j < 4; ++j)
+      for (const auto &z : *part[j])
+        if (sum[j].re.size() == 0)
+          sum[j] = z;
+        else
+          sum[j].re += z.re, sum[j].im += z.im;
+    return v.empty() ? 0. : backward_error.mismatch(sum[0], sum[1], sum[2], sum[3], transpose);
+  }
+
   std::vector<double>
   PrestressedEigenproblem::error_estimates(const BackwardError                           &backward_error,
                                            const std::vector<const EigenPair *>          &modes,
@@ -129,15 +144,7 @@ namespace rotorfit
     for (const auto *d : dense)
       left.push_back(d->w);
     Expanded y = expanded(left, omega, w, true);
-    ComplexVector sum[4];
-    for (unsigned int j = 0; j < 4; ++j)
-      {
-        const std::vector<ComplexVector> &part = j == 0 ? y.v : j == 1 ? y.m : j == 2 ? y.c : y.k;
-        sum[j] = part.front();
-        for (std::size_t k = 1; k < part.size(); ++k)
-          sum[j].re += part[k].re, sum[j].im += part[k].im;
-      }
-    if (!(backward_error.mismatch(sum[0], sum[1], sum[2], sum[3], true) <= product_tolerance))
+    if (!(y.mismatch(backward_error, true) <= product_tolerance))
       for (std::size_t k = 0; k < left.size(); ++k)
         {
           replicated_vmult(matrices.mass, y.v[k], y.m[k]);
@@ -382,26 +389,27 @@ namespace rotorfit
     const BackwardError        backward_error(matrices.mass, damping, tangent);
     std::vector<EigenPair>     pairs;
     std::vector<ComplexVector> residual(picked.size());
-    // the products are checked against this speed's sparse matrices on one
-    // combination of the modes: the checks on the full matrices rest on them
-    const std::size_t n = matrices.mass.m();
-    ComplexVector     sum[4];
-    for (auto &z : sum)
-      z = {Vector<double>(checked ? n : 0), Vector<double>(checked ? n : 0)};
-    double radius = 0;
+    std::vector<bool> usable(picked.size());
     for (std::size_t i = 0; i < picked.size(); ++i)
       {
         const double scale = std::sqrt(x.v[i].re.norm_sqr() + x.v[i].im.norm_sqr());
-        if (!(scale > 0))
+        usable[i]          = scale > 0;
+        if (usable[i])
+          for (ComplexVector *z : {&x.v[i], &x.m[i], &x.c[i], &x.k[i]})
+            z->re /= scale, z->im /= scale;
+      }
+    // the products are checked against this speed's sparse matrices on one
+    // combination of the modes: the checks on the full matrices rest on them
+    std::ostringstream reason;
+    const double       mismatch = checked ? x.mismatch(backward_error, false) : 0.;
+    if (!(mismatch <= product_tolerance))
+      reason << "the reduced model's products differ from this speed's matrices by "
+             << std::setprecision(3) << mismatch << " (relative)";
+    double radius = 0;
+    for (std::size_t i = 0; i < picked.size(); ++i)
+      {
+        if (!usable[i])
           continue;
-        ComplexVector *part[4] = {&x.v[i], &x.m[i], &x.c[i], &x.k[i]};
-        for (unsigned int j = 0; j < 4; ++j)
-          {
-            ComplexVector &z = *part[j];
-            z.re /= scale, z.im /= scale;
-            if (checked)
-              sum[j].re += z.re, sum[j].im += z.im;
-          }
         EigenPair p;
         p.lambda = all[picked[i]].lambda;
         p.phi    = std::move(x.v[i]);
@@ -411,15 +419,6 @@ namespace rotorfit
             backward_error(p.lambda, p.phi, p.m_phi, x.c[i], x.k[i], &residual[i]);
         radius = std::max(radius, std::abs(p.lambda - sigma));
         pairs.push_back(std::move(p));
-      }
-    std::ostringstream reason;
-    double             mismatch = 0;
-    if (checked && !pairs.empty())
-      {
-        mismatch = backward_error.mismatch(sum[0], sum[1], sum[2], sum[3]);
-        if (!(mismatch <= product_tolerance))
-          reason << "the reduced model's products differ from this speed's matrices by "
-                 << std::setprecision(3) << mismatch << " (relative)";
       }
 
     // a mode outside the basis (beyond the anchor's radius) moves at most
@@ -491,6 +490,7 @@ namespace rotorfit
     speed_Cr             = std::move(Cr);
     speed_Kr             = std::move(Kr);
     reduced_worst        = std::max(reduced_worst, worst_estimate);
+    reduced_worst_products = std::max(reduced_worst_products, mismatch);
     worst_backward_error = std::max(worst_backward_error, worst);
     std::ostringstream line;
     line << "  eigen (reduced, basis " << reduced.size() << " from anchors at";

@@ -377,7 +377,10 @@ namespace rotorfit
     summary.add("eigen.reduced_refusals", reduced_refusals);
     summary.add("eigen.reduced_root_trials", reduced_trials);
     if (reduced_solves > 0)
-      summary.add("eigen.reduced_worst_error_estimate", reduced_worst, 12);
+      {
+        summary.add("eigen.reduced_worst_error_estimate", reduced_worst, 12);
+        summary.add("eigen.reduced_worst_product_mismatch", reduced_worst_products, 12);
+      }
     summary.add("eigen.workspace_retries", eigensolver.linear_solver().n_workspace_retries());
     log << "Eigenproblem: " << speeds_done << " speeds (" << full_solves << " full, "
         << reduced_solves << " on the reduced model, " << reduced_refusals

@@ -203,6 +203,10 @@ namespace rotorfit
     struct Expanded
     {
       std::vector<ComplexVector> v, m, c, k;
+      /// how far the kept products of the sum of all columns are from the
+      /// sparse ones (BackwardError::mismatch): one combination checks all
+      double
+      mismatch(const BackwardError &backward_error, bool transpose) const;
     };
     Expanded
     expanded(const std::vector<std::vector<std::complex<double>>> &y,
@@ -270,7 +274,8 @@ namespace rotorfit
       }
     } key_basis{~0u, 0, -1}, key_tangent{~0u, 0, -1}, key_bearing{~0u, 0, -1};
     unsigned int full_solves = 0, reduced_solves = 0, reduced_refusals = 0, reduced_trials = 0;
-    double       reduced_worst = 0; ///< worst backward error of a reduced solve
+    double       reduced_worst = 0; ///< largest error estimate of a reduced solve
+    double       reduced_worst_products = 0; ///< largest product mismatch of a reduced solve
     dealii::DynamicSparsityPattern sparsity;
     RotorMatrices                  matrices;
 
