@@ -55,6 +55,12 @@ writes it).
   check_modes.py failure EXE PRM OUT TEXT
       the run fails with exit code 2 and TEXT in its output; summary.txt
       says failed, where and why; campbell.csv keeps the speeds done before.
+  check_modes.py reduced EXE PRM OUT FREQ_TOL ZETA_TOL [SET ...]
+      the sweep on the reduced model against the full solve at every speed
+      (consistency of two code paths; see check_reduced).
+  check_modes.py reduced_fallback EXE PRM OUT FREQ_TOL ZETA_TOL [SET ...]
+      the same where an undamped anchor is refused and its speed solved in
+      full.
 """
 import cmath
 import csv
@@ -789,6 +795,16 @@ def check_reduced(exe, prm, out, freq_tol, zeta_tol, *sets):
     good = served is not None and served > 0 and none == 0
     print(f"speeds served by the reduced model: {served} (full run: {none})", "ok" if good else "FAILED")
     ok &= good
+    # the anchors are of the kind asked (doc/theory.md 8.7): undamped ones
+    # (the default) tried at least once, damped ones alone when asked
+    kind = next((x.split("=", 1)[1] for x in sets
+                 if x.startswith("Eigenproblem/Reduced anchors=")), "undamped")
+    undamped = summary_number(red, "eigen.undamped_anchors") or 0
+    refused = summary_number(red, "eigen.undamped_anchors_refused") or 0
+    good = undamped + refused > 0 if kind == "undamped" else undamped + refused == 0
+    print(f"Reduced anchors = {kind}: {undamped} undamped anchors served their speed, {refused} "
+          f"refused", "ok" if good else "FAILED")
+    ok &= good
     a = {(r["speed_rpm"], r["mode"]): r for r in rows(red)}
     b = {(r["speed_rpm"], r["mode"]): r for r in rows(full)}
     good = a.keys() == b.keys()
@@ -883,6 +899,20 @@ def check_reduced(exe, prm, out, freq_tol, zeta_tol, *sets):
     return 0 if ok else 1
 
 
+def check_reduced_fallback(exe, prm, out, freq_tol, zeta_tol, *sets):
+    """check_reduced where an undamped anchor cannot serve its speed: at
+    least one is refused and its speed solved in full (the damped anchor),
+    and the sweep still equals the full one."""
+    status = check_reduced(exe, prm, out, freq_tol, zeta_tol, *sets)
+    red = os.path.join(out, "reduced")
+    refused = summary_number(red, "eigen.undamped_anchors_refused") or 0
+    full = summary_number(red, "eigen.full_solves") or 0
+    good = refused > 0 and full >= refused
+    print(f"undamped anchors refused: {refused}, damped full solves: {full}",
+          "ok" if good else "FAILED")
+    return status if good else 1
+
+
 def check_failure(exe, prm, out, text):
     args = prepare(prm, out)
     env = dict(os.environ)
@@ -924,7 +954,7 @@ if __name__ == "__main__":
               "torsion_crossing": check_torsion_crossing,
               "ring_symmetry": check_ring_symmetry, "study": check_study,
               "refinement": check_refinement, "locking": check_locking, "asymmetry": check_asymmetry, "mpi": check_mpi, "failure": check_failure,
-              "reduced": check_reduced}
+              "reduced": check_reduced, "reduced_fallback": check_reduced_fallback}
     if mode not in checks:
         sys.exit(f"unknown mode {mode}")
     status = checks[mode](*args)

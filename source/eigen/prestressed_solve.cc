@@ -134,6 +134,31 @@ namespace rotorfit
             log << "  eigen: reduced model refused at " << state.rpm << " r/min (" << why
                 << "): full solve, a new anchor\n";
           }
+        // an undamped anchor where K_t is symmetric (LDL^T instead of LU)
+        bool symmetric = true;
+        for (unsigned int n = 0; n < bearings.size(); ++n)
+          {
+            Bearings::Coefficients k, c;
+            bearings.coefficients(n, state.rpm, k, c);
+            symmetric &= k[2] == k[3];
+          }
+        if (reduced.undamped_anchors() && symmetric)
+          {
+            if (anchor_undamped(state, loose_body, nev, margin_pays, solution, why))
+              {
+                speed_reduced = true;
+                ++undamped_served;
+                if (solution.elastic.size() > n_wanted)
+                  solution.elastic.resize(n_wanted);
+                warn_far_shift(solution, state.rpm);
+                announce_loose_bodies(state, loose_body);
+                ++speeds_done;
+                return solution;
+              }
+            ++undamped_refused;
+            log << "  eigen: undamped anchor at " << state.rpm << " r/min refused (" << why
+                << "): the damped full solve\n";
+          }
         // the anchor's margin: modes that may move into the wanted range
         if (margin_pays)
           nev = std::min<unsigned int>(nev + 2 * reduced.margin(), 2 * model.dofs().n_dofs() - 3);
@@ -141,9 +166,7 @@ namespace rotorfit
 
     // the reduced products serve no full solve and its anchor makes them
     // stale: free them before the factorisation, the memory peak
-    for (auto *av : {&av_mass, &av_gyro, &av_tangent, &av_tangent2, &av_bearing_c})
-      std::vector<double>().swap(*av);
-    key_basis = key_tangent = key_bearing = ProjectionKey{~0u, 0, -1};
+    free_products();
 
     unsigned int                  unconverged = 0;
     double                        worst       = 0;
@@ -376,6 +399,8 @@ namespace rotorfit
     summary.add("eigen.reduced_solves", reduced_solves);
     summary.add("eigen.reduced_refusals", reduced_refusals);
     summary.add("eigen.reduced_root_trials", reduced_trials);
+    summary.add("eigen.undamped_anchors", undamped_served);
+    summary.add("eigen.undamped_anchors_refused", undamped_refused);
     if (reduced_solves > 0)
       {
         summary.add("eigen.reduced_worst_error_estimate", reduced_worst, 12);
@@ -384,9 +409,12 @@ namespace rotorfit
     summary.add("eigen.workspace_retries", eigensolver.linear_solver().n_workspace_retries());
     log << "Eigenproblem: " << speeds_done << " speeds (" << full_solves << " full, "
         << reduced_solves << " on the reduced model, " << reduced_refusals
-        << " refused by it; " << reduced_trials << " unchecked root-solve trials on it), "
+        << " refused by it; " << undamped_served << " on undamped anchors, "
+        << undamped_refused << " refused by them; " << reduced_trials
+        << " unchecked root-solve trials on it), "
         << eigensolver.linear_solver().n_factorizations()
-        << " factorisations of Q(sigma), worst backward error " << worst_backward_error
+        << " factorisations (LU of Q(sigma) or LDL^T of K_t + sigma^2 M), worst backward error "
+        << worst_backward_error
         << (reduced_solves > 0 ? ", largest estimated error of a reduced mode " : "");
     if (reduced_solves > 0)
       log << reduced_worst;

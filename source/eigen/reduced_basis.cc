@@ -36,12 +36,13 @@ namespace rotorfit
     prm.declare_entry("Reduced margin modes",
                       "6",
                       Patterns::Integer(1),
-                      "Whirl pairs an anchor solves beyond the Number of modes: the "
+                      "Whirl pairs (damped anchors) or undamped modes (undamped "
+                      "anchors) an anchor solves beyond the Number of modes: the "
                       "basis then covers the modes that can move into the wanted "
-                      "range between anchors. Not asked where the tied pairs differ "
-                      "from the previous solve's and a fit is part open, part closed "
-                      "(in a fit opening step by step such a basis serves no second "
-                      "speed).");
+                      "range between anchors. A damped anchor skips them where the "
+                      "tied pairs differ from the previous solve's and a fit is part "
+                      "open, part closed (in a fit opening step by step such a basis "
+                      "serves no second speed).");
     prm.declare_entry("Reduced slope bound",
                       "2",
                       patterns::Positive(),
@@ -50,6 +51,18 @@ namespace rotorfit
                       "outside the basis could have moved into the wanted range since "
                       "the nearest anchor (2 covers gyroscopic lateral modes, Ip / Id "
                       "<= 2; an n-diameter disc mode moves n times the spin).");
+    prm.declare_entry("Reduced anchors",
+                      "undamped",
+                      Patterns::Selection("undamped|damped"),
+                      "What a new basis is built from (doc/theory.md 8.7). undamped: "
+                      "the lowest modes of K_t phi = omega^2 M phi at the anchor speed "
+                      "(an LDL^T of K_t + sigma^2 M and symmetric Lanczos: half the "
+                      "memory of the LU) with each mode's gyroscopic, damping and "
+                      "stiffening directions; the anchor speed itself is then solved "
+                      "on that basis with every check of a reduced speed, and in full "
+                      "(damped) where they fail. damped: the full damped solve (LU of "
+                      "Q(sigma), Arnoldi) at every anchor. Cross-coupled bearings "
+                      "(k_xy != k_yx) always take the damped one.");
     prm.leave_subsection();
   }
 
@@ -61,6 +74,7 @@ namespace rotorfit
     max_error = prm.get_double("Reduced tolerance");
     extra_modes        = prm.get_integer("Reduced margin modes");
     max_slope          = prm.get_double("Reduced slope bound");
+    undamped           = prm.get("Reduced anchors") == "undamped";
     prm.leave_subsection();
   }
 

@@ -70,8 +70,10 @@ namespace rotorfit
     MPI_Comm  comm;
     check(PetscObjectGetComm(reinterpret_cast<PetscObject>(A), &comm),
           "PetscObjectGetComm");
-    if (type == Type::mumps_cholesky)
-      check(MatSetOption(A, MAT_SYMMETRIC, PETSC_TRUE), "MatSetOption");
+    // (a matrix object may carry a symmetric and then an unsymmetric
+    // operator: the eigenproblem's S, then Q(sigma))
+    check(MatSetOption(A, MAT_SYMMETRIC, type == Type::mumps_cholesky ? PETSC_TRUE : PETSC_FALSE),
+          "MatSetOption");
     // MUMPS sizes its workspace from the analysis plus ICNTL(14) percent;
     // delayed pivots of LDL^T can exceed it (INFOG(1) = -8, -9: seen on TS
     // with 2 ranks). Such a failure is retried with more room, any other

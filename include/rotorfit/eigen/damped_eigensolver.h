@@ -146,6 +146,32 @@ namespace rotorfit
               const dealii::PETScWrappers::MPI::SparseMatrix &K,
               dealii::PETScWrappers::MPI::SparseMatrix       &Q);
 
+    /// A mode of the undamped problem K phi = mu M phi (mu = omega^2).
+    struct UndampedMode
+    {
+      double                 mu = 0;
+      dealii::Vector<double> phi;
+      /// |K phi - mu M phi| / ((|mu| |M| + |K|) |phi|), Frobenius norms
+      double residual = 0;
+    };
+
+    /**
+     * The @p n_modes lowest modes of K phi = mu M phi (K symmetric: no
+     * gyroscopic or damping term), ascending in mu: symmetric Lanczos
+     * (ARPACK dsaupd, mode 3) about mu = -sigma^2 on an LDL^T of
+     * S = K + sigma^2 M, which is positive definite wherever K is positive
+     * semi-definite, rigid motions included. @p S receives S and the
+     * factorisation stays for linear_solver() (doc/theory.md 8.7). ARPACK's
+     * convergence is not reported through deal.II: every mode carries its
+     * residual, for the caller to judge.
+     */
+    std::vector<UndampedMode>
+    solve_undamped(const dealii::PETScWrappers::MPI::SparseMatrix &M,
+                   const dealii::PETScWrappers::MPI::SparseMatrix &K,
+                   dealii::PETScWrappers::MPI::SparseMatrix       &S,
+                   const unsigned int                              n_modes,
+                   Statistics                                     &statistics);
+
     /// Arnoldi vectors for @p nev eigenvalues at Krylov growth @p growth.
     unsigned int
     krylov_size(const unsigned int nev, const double growth = 1) const;

@@ -226,6 +226,30 @@ namespace rotorfit
     /// A full solve's converged eigenvectors into the basis.
     void
     add_anchor(const double rpm, const std::vector<EigenPair> &pairs, const bool lasting);
+    /// Each of @p parts' first-order change with the speed, solved with the
+    /// latest factorisation (Q(sigma) or S) into the basis: S^-1 G x,
+    /// S^-1 K_t2 x (where stress stiffening moves with the speed) and, with
+    /// @p bearing_damping, S^-1 C_b x.
+    void
+    add_directions(const std::vector<const dealii::Vector<double> *> &parts,
+                   const bool                                         bearing_damping);
+    /// A new anchor from the undamped modes of this speed and their
+    /// directions (doc/theory.md 8.7), then the speed on the basis with
+    /// every check of a reduced solve; false (and @p why) where they fail:
+    /// the speed then needs the damped full solve. A @p lasting anchor
+    /// (a contact state expected to hold over several speeds) also gets the
+    /// directions other speeds need.
+    bool
+    anchor_undamped(const StaticState       &state,
+                    const std::vector<bool> &loose_body,
+                    const unsigned int       nev,
+                    const bool               lasting,
+                    EigenSolution           &solution,
+                    std::string             &why);
+    /// Free the products A V kept with the projections (before a
+    /// factorisation: the memory peak).
+    void
+    free_products();
     void
     announce_loose_bodies(const StaticState &state, const std::vector<bool> &loose_body);
     /// Virial checks of K_sigma on rigid tilt and twist (doc/theory.md 10e).
@@ -274,6 +298,9 @@ namespace rotorfit
       }
     } key_basis{~0u, 0, -1}, key_tangent{~0u, 0, -1}, key_bearing{~0u, 0, -1};
     unsigned int full_solves = 0, reduced_solves = 0, reduced_refusals = 0, reduced_trials = 0;
+    /// speeds served by an undamped anchor, and those whose undamped anchor
+    /// failed the checks (then solved in full)
+    unsigned int undamped_served = 0, undamped_refused = 0;
     double       reduced_worst = 0; ///< largest error estimate of a reduced solve
     double       reduced_worst_products = 0; ///< largest product mismatch of a reduced solve
     dealii::DynamicSparsityPattern sparsity;

@@ -64,6 +64,13 @@ namespace rotorfit
       return max_slope;
     }
 
+    /// New bases start from undamped modes (else from a damped full solve).
+    bool
+    undamped_anchors() const
+    {
+      return undamped;
+    }
+
     /// Largest basis before a new anchor replaces it instead of adding.
     unsigned int
     capacity(const unsigned int anchor_size) const
@@ -157,6 +164,7 @@ namespace rotorfit
     double       max_error = 1e-7;
     unsigned int extra_modes        = 6;
     double       max_slope          = 2;
+    bool         undamped           = true;
 
     /// V, n x m column-major (one block: dgemv and dgemm read it directly)
     std::vector<double> flat;
