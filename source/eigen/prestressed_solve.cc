@@ -117,15 +117,20 @@ namespace rotorfit
           TimerOutput::Scope t(timer, "eigen: reduced model");
           done = solve_reduced(state, loose_body, nev, solution, why);
         }
+        // a speed served by the reduced model (of the basis so far, or of
+        // an undamped anchor made for it)
+        const auto served = [&](unsigned int &counter) {
+          speed_reduced = true;
+          ++counter;
+          if (solution.elastic.size() > n_wanted)
+            solution.elastic.resize(n_wanted);
+          warn_far_shift(solution, state.rpm);
+          announce_loose_bodies(state, loose_body);
+          ++speeds_done;
+        };
         if (done)
           {
-            speed_reduced = true;
-            ++reduced_solves;
-            if (solution.elastic.size() > n_wanted)
-              solution.elastic.resize(n_wanted);
-            warn_far_shift(solution, state.rpm);
-            announce_loose_bodies(state, loose_body);
-            ++speeds_done;
+            served(reduced_solves);
             return solution;
           }
         if (reduced.size() > 0)
@@ -146,13 +151,7 @@ namespace rotorfit
           {
             if (anchor_undamped(state, loose_body, nev, margin_pays, solution, why))
               {
-                speed_reduced = true;
-                ++undamped_served;
-                if (solution.elastic.size() > n_wanted)
-                  solution.elastic.resize(n_wanted);
-                warn_far_shift(solution, state.rpm);
-                announce_loose_bodies(state, loose_body);
-                ++speeds_done;
+                served(undamped_served);
                 return solution;
               }
             ++undamped_refused;
