@@ -400,7 +400,9 @@ namespace rotorfit
     summary.add("eigen.reduced_root_trials", reduced_trials);
     summary.add("eigen.undamped_anchors", undamped_served);
     summary.add("eigen.undamped_anchors_refused", undamped_refused);
-    if (reduced_solves > 0)
+    // (an undamped anchor's speed is a reduced solve with the same checks)
+    const bool any_reduced = reduced_solves + undamped_served > 0;
+    if (any_reduced)
       {
         summary.add("eigen.reduced_worst_error_estimate", reduced_worst, 12);
         summary.add("eigen.reduced_worst_product_mismatch", reduced_worst_products, 12);
@@ -414,8 +416,8 @@ namespace rotorfit
         << eigensolver.linear_solver().n_factorizations()
         << " factorisations (LU of Q(sigma) or LDL^T of K_t + sigma^2 M), worst backward error "
         << worst_backward_error
-        << (reduced_solves > 0 ? ", largest estimated error of a reduced mode " : "");
-    if (reduced_solves > 0)
+        << (any_reduced ? ", largest estimated error of a reduced mode " : "");
+    if (any_reduced)
       log << reduced_worst;
     log << '\n';
   }
