@@ -173,6 +173,89 @@ namespace rotorfit
   }
 
   void
+  replicated_mmult(const PETScWrappers::MPI::SparseMatrix &A,
+                   const double                           *x,
+                   const unsigned int                      m,
+                   double                                 *y)
+  {
+    // PETSc's sequential AIJ x dense product reads A once for four columns
+    // (TS: 3.1 ms per column against 12 ms per sparse product); its MPI
+    // product goes column by column. So each rank multiplies its diagonal
+    // and off-diagonal blocks by the rows of the replicated columns they
+    // need, and the rows are gathered.
+    if (m == 0)
+      return;
+    const auto     range   = A.local_range();
+    const PetscInt n_local = range.second - range.first, n = A.m(), columns = m;
+    const MPI_Comm comm    = A.get_mpi_communicator();
+    const auto     ok      = [](const PetscErrorCode code) {
+      AssertThrow(code == 0, ExcMessage("PETSc sparse x dense product failed"));
+    };
+    Mat            Ad, Ao;
+    const PetscInt *colmap;
+    ok(MatMPIAIJGetSeqAIJ(A, &Ad, &Ao, &colmap));
+    PetscInt n_ghost;
+    ok(MatGetSize(Ao, nullptr, &n_ghost));
+    // rows of X: the local ones for Ad, the ghost ones (colmap) for Ao
+    const auto dense = [&](const PetscInt rows, const auto &row_of) {
+      Mat          X;
+      PetscScalar *a;
+      ok(MatCreateSeqDense(PETSC_COMM_SELF, rows, columns, nullptr, &X));
+      ok(MatDenseGetArray(X, &a));
+      for (PetscInt j = 0; j < columns; ++j)
+        for (PetscInt i = 0; i < rows; ++i)
+          a[j * rows + i] = x[j * n + row_of(i)];
+      ok(MatDenseRestoreArray(X, &a));
+      ok(MatAssemblyBegin(X, MAT_FINAL_ASSEMBLY));
+      ok(MatAssemblyEnd(X, MAT_FINAL_ASSEMBLY));
+      return X;
+    };
+    Mat Xd = dense(n_local, [&](const PetscInt i) { return range.first + i; });
+    Mat Yd;
+    ok(MatMatMult(Ad, Xd, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &Yd));
+    if (n_ghost > 0)
+      {
+        Mat Xo = dense(n_ghost, [&](const PetscInt i) { return colmap[i]; });
+        Mat Yo;
+        ok(MatMatMult(Ao, Xo, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &Yo));
+        ok(MatAXPY(Yd, 1., Yo, SAME_NONZERO_PATTERN));
+        ok(MatDestroy(&Xo));
+        ok(MatDestroy(&Yo));
+      }
+    const unsigned int ranks = Utilities::MPI::n_mpi_processes(comm);
+    std::vector<int>   counts(ranks), displs(ranks);
+    const int          local = n_local;
+    MPI_Allgather(&local, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+    for (unsigned int r = 1; r < ranks; ++r)
+      displs[r] = displs[r - 1] + counts[r - 1];
+    const PetscScalar *ya;
+    PetscInt           ld;
+    ok(MatDenseGetLDA(Yd, &ld));
+    ok(MatDenseGetArrayRead(Yd, &ya));
+    for (PetscInt j = 0; j < columns; ++j)
+      MPI_Allgatherv(ya + j * ld, local, MPI_DOUBLE, y + j * n, counts.data(), displs.data(),
+                     MPI_DOUBLE, comm);
+    ok(MatDenseRestoreArrayRead(Yd, &ya));
+    ok(MatDestroy(&Xd));
+    ok(MatDestroy(&Yd));
+  }
+
+  void
+  replicated_mmult(const PETScWrappers::MPI::SparseMatrix    &A,
+                   const std::vector<const Vector<double> *> &x,
+                   std::vector<Vector<double>>               &y)
+  {
+    const std::size_t   n = A.m();
+    std::vector<double> flat(n * x.size()), out(n * x.size());
+    for (std::size_t j = 0; j < x.size(); ++j)
+      std::copy(x[j]->begin(), x[j]->end(), flat.begin() + j * n);
+    replicated_mmult(A, flat.data(), x.size(), out.data());
+    y.assign(x.size(), Vector<double>(n));
+    for (std::size_t j = 0; j < x.size(); ++j)
+      std::copy(out.begin() + j * n, out.begin() + (j + 1) * n, y[j].begin());
+  }
+
+  void
   replicated_solve(const DirectSolver                     &solver,
                    const PETScWrappers::MPI::SparseMatrix &layout,
                    const Vector<double>                   &b,
@@ -545,18 +628,23 @@ namespace rotorfit
 
     const double              norm_M = M.frobenius_norm(), norm_K = K.frobenius_norm();
     std::vector<UndampedMode> modes;
-    Vector<double>            Mz(n), Kz;
+    std::vector<Vector<double>> Mz, Kz;
+    {
+      std::vector<const Vector<double> *> columns;
+      for (const auto &v : z)
+        columns.push_back(&v);
+      replicated_mmult(M, columns, Mz);
+      replicated_mmult(K, columns, Kz);
+    }
     for (unsigned int j = 0; j < nev; ++j)
       {
         UndampedMode m;
         m.mu  = mu[j].real();
         m.phi = std::move(z[j]);
-        mass.vmult(Mz, m.phi);
-        replicated_vmult(K, m.phi, Kz);
-        Kz.add(-m.mu, Mz);
+        Kz[j].add(-m.mu, Mz[j]);
         const double scale = (std::abs(m.mu) * norm_M + norm_K) * m.phi.l2_norm();
         // an unconverged slot (zeros, NaN) fails the test below
-        m.residual = scale > 0 ? Kz.l2_norm() / scale : std::numeric_limits<double>::infinity();
+        m.residual = scale > 0 ? Kz[j].l2_norm() / scale : std::numeric_limits<double>::infinity();
         if (!std::isfinite(m.residual) || !std::isfinite(m.mu))
           m.residual = std::numeric_limits<double>::infinity();
         modes.push_back(std::move(m));

@@ -23,6 +23,15 @@ namespace rotorfit
 
   namespace
   {
+    std::vector<const Vector<double> *>
+    pointers(const std::vector<Vector<double>> &v)
+    {
+      std::vector<const Vector<double> *> p;
+      for (const auto &x : v)
+        p.push_back(&x);
+      return p;
+    }
+
     /// How far the kept products (A V) y may stray from A (V y), relative.
     /// Rounding, amplified by the cancellation that penalty ties cause in
     /// K_t phi, reaches 6.7e-9 on the tutorial disk and 5e-10 on TS; a
@@ -255,14 +264,11 @@ namespace rotorfit
     for (const auto &p : pairs)
       if (p.backward_error <= eigensolver.backward_error_limit())
         {
-          reduced.add(p.phi.re, matrices.mass);
           parts.push_back(&p.phi.re);
           if (p.lambda.imag() != 0)
-            {
-              reduced.add(p.phi.im, matrices.mass);
-              parts.push_back(&p.phi.im);
-            }
+            parts.push_back(&p.phi.im);
         }
+    reduced.add(parts, matrices.mass);
     if (directions > 1)
       add_directions(parts, false);
     reduced.anchors.push_back({rpm, radius});
@@ -273,37 +279,32 @@ namespace rotorfit
                                           const bool bearing_damping)
   {
     const bool                  stiffening_moves = stiffening == StressStiffening::full;
-    std::vector<Vector<double>> products;
-    Vector<double>              y;
-    for (const auto *x : parts)
+    std::vector<Vector<double>> g, k2, cb, theta;
+    replicated_mmult(matrices.gyroscopic, parts, g);
+    if (stiffening_moves)
       {
-        replicated_vmult(matrices.gyroscopic, *x, y);
-        products.push_back(y);
-        if (stiffening_moves)
+        replicated_mmult(k_sigma_C, parts, k2);
+        if (convective_term)
           {
-            Vector<double> z;
-            replicated_vmult(k_sigma_C, *x, z);
-            if (convective_term)
-              {
-                replicated_vmult(matrices.convective, *x, y);
-                z -= y;
-              }
-            products.push_back(std::move(z));
-          }
-        if (bearing_damping)
-          {
-            replicated_vmult(bearing_c, *x, y);
-            if (y.l2_norm() > 0) // undamped bearings: nothing to add
-              products.push_back(y);
+            replicated_mmult(matrices.convective, parts, theta);
+            for (std::size_t i = 0; i < parts.size(); ++i)
+              k2[i] -= theta[i];
           }
       }
-    std::vector<const Vector<double> *> rhs;
-    for (const auto &v : products)
-      rhs.push_back(&v);
+    if (bearing_damping)
+      replicated_mmult(bearing_c, parts, cb);
+    std::vector<Vector<double>> products;
+    for (std::size_t i = 0; i < parts.size(); ++i)
+      {
+        products.push_back(std::move(g[i]));
+        if (stiffening_moves)
+          products.push_back(std::move(k2[i]));
+        if (bearing_damping && cb[i].l2_norm() > 0) // undamped bearings: nothing to add
+          products.push_back(std::move(cb[i]));
+      }
     std::vector<Vector<double>> found;
-    replicated_solve(eigensolver.linear_solver(), matrices.mass, rhs, found);
-    for (const auto &d : found)
-      reduced.add(d, matrices.mass);
+    replicated_solve(eigensolver.linear_solver(), matrices.mass, pointers(products), found);
+    reduced.add(pointers(found), matrices.mass);
   }
 
   void
@@ -352,10 +353,8 @@ namespace rotorfit
         reduced.clear();
       std::vector<const Vector<double> *> parts;
       for (std::size_t i = 0; i < found; ++i)
-        {
-          reduced.add(modes[i].phi, matrices.mass);
-          parts.push_back(&modes[i].phi);
-        }
+        parts.push_back(&modes[i].phi);
+      reduced.add(parts, matrices.mass);
       // the directions other speeds of the contact state need: G, K_t2, C_b
       // apart (a set that changes at the next speed needs only this
       // speed's C, below)
@@ -367,24 +366,14 @@ namespace rotorfit
       // (mu_j + sigma^2)^(k+1): this is the series' next term (the conical
       // impeller at 26,000 r/min: largest estimated error 4.5e-7 -> 8e-10;
       // 14 margin modes instead of 6 gave 1.2e-8 at a larger basis)
-      std::vector<Vector<double>> cx(found), first, second;
-      const auto                  block = [&](std::vector<Vector<double>> &out) {
-        std::vector<const Vector<double> *> rhs;
-        for (const auto &v : cx)
-          rhs.push_back(&v);
-        replicated_solve(eigensolver.linear_solver(), matrices.mass, rhs, out);
-      };
-      for (std::size_t i = 0; i < found; ++i)
-        replicated_vmult(damping, modes[i].phi, cx[i]);
-      block(first);
+      std::vector<Vector<double>> cx, first, second;
+      replicated_mmult(damping, parts, cx);
+      replicated_solve(eigensolver.linear_solver(), matrices.mass, pointers(cx), first);
       if (!lasting)
-        for (const auto &v : first)
-          reduced.add(v, matrices.mass);
-      for (std::size_t i = 0; i < found; ++i)
-        replicated_vmult(matrices.mass, first[i], cx[i]);
-      block(second);
-      for (const auto &v : second)
-        reduced.add(v, matrices.mass);
+        reduced.add(pointers(first), matrices.mass);
+      replicated_mmult(matrices.mass, pointers(first), cx);
+      replicated_solve(eigensolver.linear_solver(), matrices.mass, pointers(cx), second);
+      reduced.add(pointers(second), matrices.mass);
     }
     // the damped modes of this speed outside the basis come from undamped
     // ones above the top found, moved by the gyroscopic and damping terms:

@@ -121,22 +121,85 @@ namespace rotorfit
   bool
   ReducedBasis::add(const Vector<double> &x, const PETScWrappers::MPI::SparseMatrix &M)
   {
-    Vector<double> v = x, mv;
-    replicated_vmult(M, v, mv);
-    const double first = std::sqrt(std::max(0., v * mv));
-    if (!(first > 0))
-      return false;
-    m_orthogonalize(v, M, mv);
-    const double norm = std::sqrt(std::max(0., v * mv));
-    // one decision for all ranks (their bases must stay the same size)
-    if (Utilities::MPI::min(norm > 1e-10 * first ? 1 : 0, M.get_mpi_communicator()) == 0)
-      return false;
-    v /= norm;
-    rows = v.size();
-    flat.insert(flat.end(), v.begin(), v.end());
-    ++columns;
+    return add(std::vector<const Vector<double> *>{&x}, M) == 1;
+  }
+
+  unsigned int
+  ReducedBasis::add(const std::vector<const Vector<double> *> &x,
+                    const PETScWrappers::MPI::SparseMatrix    &M)
+  {
+    const int k = x.size();
+    if (k == 0)
+      return 0;
+    const int           n = x[0]->size(), m = columns;
+    const std::size_t   size = std::size_t(n) * k;
+    std::vector<double> X(size), MX(size);
+    for (int j = 0; j < k; ++j)
+      std::copy(x[j]->begin(), x[j]->end(), X.begin() + std::size_t(j) * n);
+    replicated_mmult(M, X.data(), k, MX.data());
+    const auto dot = [n](const double *a, const double *b) {
+      double s = 0;
+      for (int i = 0; i < n; ++i)
+        s += a[i] * b[i];
+      return s;
+    };
+    std::vector<double> first(k);
+    for (int j = 0; j < k; ++j)
+      first[j] = std::sqrt(std::max(0., dot(X.data() + std::size_t(j) * n, MX.data() + std::size_t(j) * n)));
+    // against the basis (V M-orthonormal): classical Gram-Schmidt twice,
+    // the block at once, with M X made anew after each pass
+    const double one = 1, minus = -1, zero = 0;
+    if (m > 0)
+      for (unsigned int pass = 0; pass < 2; ++pass)
+        {
+          std::vector<double> c(std::size_t(m) * k);
+          dgemm_("T", "N", &m, &k, &n, &one, flat.data(), &n, MX.data(), &n, &zero, c.data(), &m);
+          dgemm_("N", "N", &n, &k, &m, &minus, flat.data(), &n, c.data(), &m, &one, X.data(), &n);
+          replicated_mmult(M, X.data(), k, MX.data());
+        }
+    // within the block, column after column; M X follows by the same
+    // combinations, and the kept columns' norms come from a new product
+    std::vector<int> kept;
+    for (int j = 0; j < k; ++j)
+      {
+        double *v = X.data() + std::size_t(j) * n, *mv = MX.data() + std::size_t(j) * n;
+        for (unsigned int pass = 0; pass < 2; ++pass)
+          for (const int i : kept)
+            {
+              const double *u = X.data() + std::size_t(i) * n, *mu = MX.data() + std::size_t(i) * n;
+              const double  c = dot(mu, v);
+              for (int r = 0; r < n; ++r)
+                v[r] -= c * u[r], mv[r] -= c * mu[r];
+            }
+        const double norm = std::sqrt(std::max(0., dot(v, mv)));
+        // one decision for all ranks (their bases must stay the same size)
+        if (Utilities::MPI::min(first[j] > 0 && norm > 1e-10 * first[j] ? 1 : 0,
+                                M.get_mpi_communicator()) == 0)
+          continue;
+        for (int r = 0; r < n; ++r)
+          v[r] /= norm, mv[r] /= norm;
+        kept.push_back(j);
+      }
+    if (kept.empty())
+      return 0;
+    const int           added = kept.size();
+    std::vector<double> K(std::size_t(n) * added), MK(K.size());
+    for (int j = 0; j < added; ++j)
+      std::copy(X.begin() + std::size_t(kept[j]) * n, X.begin() + std::size_t(kept[j] + 1) * n,
+                K.begin() + std::size_t(j) * n);
+    replicated_mmult(M, K.data(), added, MK.data());
+    for (int j = 0; j < added; ++j)
+      {
+        double      *v = K.data() + std::size_t(j) * n;
+        const double s = std::sqrt(std::max(0., dot(v, MK.data() + std::size_t(j) * n)));
+        for (int r = 0; r < n; ++r)
+          v[r] /= s;
+      }
+    rows = n;
+    flat.insert(flat.end(), K.begin(), K.end());
+    columns += added;
     ++serial;
-    return true;
+    return added;
   }
 
   void
@@ -199,14 +262,7 @@ namespace rotorfit
       return P;
     const int           n = rows;
     std::vector<double> av(flat.size());
-    Vector<double>      x(n), y;
-    for (int j = 0; j < m; ++j)
-      {
-        std::copy(flat.begin() + std::size_t(j) * n, flat.begin() + std::size_t(j + 1) * n,
-                  x.begin());
-        replicated_vmult(A, x, y);
-        std::copy(y.begin(), y.end(), av.begin() + std::size_t(j) * n);
-      }
+    replicated_mmult(A, flat.data(), m, av.data());
     std::vector<double> p(static_cast<std::size_t>(m) * m);
     const double        one = 1, zero = 0;
     dgemm_("T", "N", &m, &m, &n, &one, flat.data(), &n, av.data(), &n, &zero, p.data(), &m);

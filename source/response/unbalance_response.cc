@@ -375,11 +375,11 @@ namespace rotorfit
         const double norm0 = x.l2_norm();
         if (!(norm0 > 0) || !std::isfinite(norm0))
           return false;
+        Vector<double> mx; // M x of the column kept, where known
         if (head() > 0)
           {
             // M-orthonormal like the head (columns of one scale keep the
             // projected system as well conditioned as the basis is)
-            Vector<double> mx;
             replicated_vmult(op.mass, x, mx);
             const double m_norm0 = std::sqrt(std::max(0., x * mx));
             op.basis->m_orthogonalize(x, op.mass, mx);
@@ -391,6 +391,7 @@ namespace rotorfit
             if (!(m_norm > 1e-10 * m_norm0))
               return false;
             x /= m_norm;
+            mx /= m_norm;
           }
         else
           {
@@ -405,7 +406,10 @@ namespace rotorfit
         v.push_back(x);
         for (auto *p : {&mv, &dv, &kv})
           p->emplace_back();
-        replicated_vmult(op.mass, x, mv.back());
+        if (mx.size() > 0)
+          mv.back() = std::move(mx);
+        else
+          replicated_vmult(op.mass, x, mv.back());
         replicated_vmult(op.damping, x, dv.back());
         replicated_vmult(op.stiffness, x, kv.back());
         return true;
@@ -442,12 +446,11 @@ namespace rotorfit
             basis.add(p.phi.re);
             basis.add(p.phi.im);
           }
-      Vector<double> x;
-      for (const auto *g : {&f.re, &f.im})
-        {
-          replicated_solve(o.shifted_inverse, o.mass, *g, x);
-          basis.add(x);
-        }
+      // the real and imaginary parts in one pass over the factors
+      std::vector<Vector<double>> x;
+      replicated_solve(o.shifted_inverse, o.mass, {&f.re, &f.im}, x);
+      for (auto &z : x)
+        basis.add(std::move(z));
       double previous = std::numeric_limits<double>::infinity();
       for (unsigned int step = 0;; ++step)
         {
@@ -462,11 +465,11 @@ namespace rotorfit
           previous   = out.residual;
           bool grown = false;
           if (step < max_enrichment)
-            for (const auto *g : {&r.re, &r.im})
-              {
-                replicated_solve(o.shifted_inverse, o.mass, *g, x);
-                grown |= basis.add(x);
-              }
+            {
+              replicated_solve(o.shifted_inverse, o.mass, {&r.re, &r.im}, x);
+              for (auto &z : x)
+                grown |= basis.add(std::move(z));
+            }
           if (!grown)
             return false;
         }

@@ -210,6 +210,20 @@ namespace rotorfit
                    dealii::Vector<double>                         &y,
                    const bool                                      transpose = false);
 
+  /// Y = A X for @p m replicated columns, column-major n x m arrays (one
+  /// pass over A for several columns).
+  void
+  replicated_mmult(const dealii::PETScWrappers::MPI::SparseMatrix &A,
+                   const double                                   *x,
+                   unsigned int                                    m,
+                   double                                         *y);
+
+  /// y_j = A x_j for a block of replicated vectors.
+  void
+  replicated_mmult(const dealii::PETScWrappers::MPI::SparseMatrix    &A,
+                   const std::vector<const dealii::Vector<double> *> &x,
+                   std::vector<dealii::Vector<double>>               &y);
+
   /// x = A^{-1} b for replicated vectors with @p solver's factorisation of
   /// A (@p layout: a matrix with A's row distribution).
   void

@@ -99,6 +99,14 @@ namespace rotorfit
     bool
     add(const dealii::Vector<double> &x, const dealii::PETScWrappers::MPI::SparseMatrix &M);
 
+    /// Add the block @p x in order, each M-orthonormalised against the basis
+    /// and the columns of the block kept before it; the columns in the span
+    /// to 1e-10 are left out. Returns how many were added. (Block products
+    /// with M: a quarter of the time of one product per column.)
+    unsigned int
+    add(const std::vector<const dealii::Vector<double> *> &x,
+        const dealii::PETScWrappers::MPI::SparseMatrix    &M);
+
     /// M-orthogonalise @p v against the basis in place (classical
     /// Gram-Schmidt twice); @p mv: M v on entry and on return.
     void
