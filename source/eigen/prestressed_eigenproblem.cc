@@ -334,10 +334,11 @@ namespace rotorfit
         // K_sigma is linear in u = u_I + w u_C: two parts per active set
         if (decomposition.serial != k_sigma_serial)
           {
-            u = decomposition.u_I;
-            matrices.assemble_stress_stiffness(dofs, mesh.mapping(), mesh.cell_quadrature(), bodies, u, k_sigma_I);
-            u = decomposition.u_C;
-            matrices.assemble_stress_stiffness(dofs, mesh.mapping(), mesh.cell_quadrature(), bodies, u, k_sigma_C);
+            PETScWrappers::MPI::Vector u_C(model.locally_owned_dofs(), all, comm);
+            u   = decomposition.u_I;
+            u_C = decomposition.u_C;
+            matrices.assemble_stress_stiffness(dofs, mesh.mapping(), mesh.cell_quadrature(), bodies,
+                                               {&u, &u_C}, {&k_sigma_I, &k_sigma_C});
             k_sigma_serial = decomposition.serial;
           }
         MatAXPY(tangent, 1., k_sigma_I, SAME_NONZERO_PATTERN);

@@ -112,7 +112,21 @@ namespace rotorfit
                                            const PETScWrappers::MPI::Vector &u,
                                            PETScWrappers::MPI::SparseMatrix &k_sigma) const
   {
-    reinit_like(k_sigma);
+    assemble_stress_stiffness(dof_handler, mapping, quadrature, bodies, {&u}, {&k_sigma});
+  }
+
+  void
+  RotorMatrices::assemble_stress_stiffness(
+    const DoFHandler<3>                                   &dof_handler,
+    const Mapping<3>                                      &mapping,
+    const Quadrature<3>                                   &quadrature,
+    const Bodies                                          &bodies,
+    const std::vector<const PETScWrappers::MPI::Vector *> &u,
+    const std::vector<PETScWrappers::MPI::SparseMatrix *> &k_sigma) const
+  {
+    AssertThrow(u.size() == k_sigma.size(), ExcInternalError());
+    for (auto *k : k_sigma)
+      reinit_like(*k);
     const auto            &fe = dof_handler.get_fe();
     FEValues<3>            fe_values(mapping,
                           fe,
@@ -120,41 +134,59 @@ namespace rotorfit
                           update_gradients | update_JxW_values);
     const FEValuesExtractors::Vector disp(0);
     const unsigned int               n = fe.n_dofs_per_cell();
-    FullMatrix<double>               cell_s(n, n);
-    std::vector<types::global_dof_index> dofs(n);
-    std::vector<unsigned int>            comp(n);
+    // K_sigma couples a component only with itself, through the same
+    // scalar block sigma grad N_a . grad N_b: the block is computed once
+    // per scalar pair (a ninth of the work) and copied to the components
+    std::vector<unsigned int> comp(n), base(n);
+    unsigned int              n_scalar = 0;
     for (unsigned int i = 0; i < n; ++i)
-      comp[i] = fe.system_to_component_index(i).first;
-    std::vector<SymmetricTensor<2, 3>> strain(quadrature.size());
-    std::vector<Tensor<1, 3>>          grad(n);
+      {
+        comp[i]  = fe.system_to_component_index(i).first;
+        base[i]  = fe.system_to_component_index(i).second;
+        n_scalar = std::max(n_scalar, base[i] + 1);
+      }
+    std::vector<unsigned int> scalar_dof(n_scalar); // one vector DoF per scalar function
+    for (unsigned int i = 0; i < n; ++i)
+      if (comp[i] == 0)
+        scalar_dof[base[i]] = i;
+    FullMatrix<double>                   cell_s(n, n), block(n_scalar, n_scalar);
+    std::vector<types::global_dof_index> dofs(n);
+    std::vector<SymmetricTensor<2, 3>>   strain(quadrature.size());
+    std::vector<Tensor<1, 3>>            grad(n_scalar);
 
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
           fe_values.reinit(cell);
           cell->get_dof_indices(dofs);
-          fe_values[disp].get_function_symmetric_gradients(u, strain);
           const Body &body = bodies[cell->material_id()];
-          cell_s           = 0;
-          for (unsigned int q = 0; q < quadrature.size(); ++q)
+          for (std::size_t k = 0; k < u.size(); ++k)
             {
-              // pre-stress at the quadrature point (no projection, doc/theory.md 3)
-              const SymmetricTensor<2, 3> sigma =
-                body.lambda() * trace(strain[q]) * unit_symmetric_tensor<3>() +
-                2 * body.mu() * strain[q];
-              const double JxW = fe_values.JxW(q);
-              for (unsigned int i = 0; i < n; ++i)
-                grad[i] = fe_values.shape_grad(i, q);
-              for (unsigned int i = 0; i < n; ++i)
+              fe_values[disp].get_function_symmetric_gradients(*u[k], strain);
+              block = 0;
+              for (unsigned int q = 0; q < quadrature.size(); ++q)
                 {
-                  const Tensor<1, 3> s_grad = sigma * grad[i];
-                  for (unsigned int j = 0; j < n; ++j)
-                    if (comp[i] == comp[j])
-                      cell_s(i, j) += (s_grad * grad[j]) * JxW;
+                  // pre-stress at the quadrature point (no projection, doc/theory.md 3)
+                  const SymmetricTensor<2, 3> sigma =
+                    body.lambda() * trace(strain[q]) * unit_symmetric_tensor<3>() +
+                    2 * body.mu() * strain[q];
+                  const double JxW = fe_values.JxW(q);
+                  for (unsigned int a = 0; a < n_scalar; ++a)
+                    grad[a] = fe_values.shape_grad(scalar_dof[a], q);
+                  for (unsigned int a = 0; a < n_scalar; ++a)
+                    {
+                      const Tensor<1, 3> s_grad = sigma * grad[a];
+                      for (unsigned int b = 0; b < n_scalar; ++b)
+                        block(a, b) += (s_grad * grad[b]) * JxW;
+                    }
                 }
+              for (unsigned int i = 0; i < n; ++i)
+                for (unsigned int j = 0; j < n; ++j)
+                  cell_s(i, j) = comp[i] == comp[j] ? block(base[i], base[j]) : 0.;
+              k_sigma[k]->add(dofs, cell_s);
             }
-          k_sigma.add(dofs, cell_s);
         }
-    k_sigma.compress(VectorOperation::add);
+    for (auto *k : k_sigma)
+      k->compress(VectorOperation::add);
   }
 } // namespace rotorfit

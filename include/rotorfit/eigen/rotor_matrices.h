@@ -48,6 +48,16 @@ namespace rotorfit
                               const dealii::PETScWrappers::MPI::Vector &u,
                               dealii::PETScWrappers::MPI::SparseMatrix &k_sigma) const;
 
+    /// K_sigma of each displacement @p u[k] into @p k_sigma[k], in one pass
+    /// over the cells (an active set's two parts, u_I and u_C).
+    void
+    assemble_stress_stiffness(const dealii::DoFHandler<3>                                  &dof_handler,
+                              const dealii::Mapping<3>                                     &mapping,
+                              const dealii::Quadrature<3>                                  &quadrature,
+                              const Bodies                                                 &bodies,
+                              const std::vector<const dealii::PETScWrappers::MPI::Vector *> &u,
+                              const std::vector<dealii::PETScWrappers::MPI::SparseMatrix *> &k_sigma) const;
+
     /// A zero matrix with the common pattern.
     void
     reinit_like(dealii::PETScWrappers::MPI::SparseMatrix &m) const;
