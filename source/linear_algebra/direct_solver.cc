@@ -19,6 +19,18 @@ namespace rotorfit
                                  "). If this is a factorisation, the matrix "
                                  "may be singular: is every body held?");
     }
+
+    /// MUMPS's factor behind @p ksp (for the block back-substitutions).
+    Mat
+    factor_of(KSP ksp)
+    {
+      Assert(ksp != nullptr, ExcMessage("factorize() first"));
+      PC  pc;
+      Mat factor;
+      check(KSPGetPC(ksp, &pc), "KSPGetPC");
+      check(PCFactorGetMatrix(pc, &factor), "PCFactorGetMatrix");
+      return factor;
+    }
   } // namespace
 
   DirectSolver::~DirectSolver()
@@ -128,14 +140,19 @@ namespace rotorfit
   void
   DirectSolver::solve(Mat X, Mat B) const
   {
-    Assert(ksp != nullptr, ExcMessage("factorize() first"));
-    PC  pc;
-    Mat factor;
-    check(KSPGetPC(ksp, &pc), "KSPGetPC");
-    check(PCFactorGetMatrix(pc, &factor), "PCFactorGetMatrix");
-    check(MatMatSolve(factor, B, X), "block back-substitution (MatMatSolve)");
+    check(MatMatSolve(factor_of(ksp), B, X), "block back-substitution (MatMatSolve)");
     PetscInt columns;
     check(MatGetSize(B, nullptr, &columns), "MatGetSize");
+    solves += columns;
+  }
+
+  void
+  DirectSolver::solve_sparse(Mat X, Mat Bt) const
+  {
+    check(MatMatTransposeSolve(factor_of(ksp), Bt, X),
+          "sparse block back-substitution (MatMatTransposeSolve)");
+    PetscInt columns;
+    check(MatGetSize(Bt, &columns, nullptr), "MatGetSize");
     solves += columns;
   }
 } // namespace rotorfit

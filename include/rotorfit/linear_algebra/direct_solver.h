@@ -62,6 +62,13 @@ namespace rotorfit
     void
     solve(Mat X, Mat B) const;
 
+    /// X = A^-1 B with B given transposed as a sparse AIJ matrix @p Bt (one
+    /// row per right-hand side): MUMPS then skips the zeros of the forward
+    /// substitution. One MPI rank only (PETSc 3.18 hands MUMPS a sparse
+    /// right-hand side only there); X dense as above.
+    void
+    solve_sparse(Mat X, Mat Bt) const;
+
     bool
     factorized() const
     {
