@@ -122,14 +122,47 @@ namespace rotorfit
     return v.empty() ? 0. : backward_error.mismatch(sum[0], sum[1], sum[2], sum[3], transpose);
   }
 
+  std::vector<const std::vector<double> *>
+  PrestressedEigenproblem::residual_blocks() const
+  {
+    std::vector<const std::vector<double> *> blocks;
+    for (const auto *P : {&av_mass, &av_bearing_c, &av_gyro, &av_tangent, &av_tangent2})
+      if (std::any_of(P->begin(), P->end(), [](const double a) { return a != 0; }))
+        blocks.push_back(P);
+    return blocks;
+  }
+
+  std::vector<std::complex<double>>
+  PrestressedEigenproblem::residual_coefficients(const std::vector<std::complex<double>> &y,
+                                                 const std::complex<double>               lambda,
+                                                 const double                             omega,
+                                                 const double                             w,
+                                                 const bool transpose,
+                                                 const std::vector<const std::vector<double> *> &blocks) const
+  {
+    // Q(lambda) V y = lambda^2 M V y + lambda (C_b V + omega G V) y +
+    // (K_t V + (w - w_tangent) K_t2 V) y, as expanded() makes it; its
+    // transpose with conj(lambda) and C_b - omega G
+    const std::complex<double> l = transpose ? std::conj(lambda) : lambda;
+    const std::complex<double> a[5] = {l * l, l, (transpose ? -omega : omega) * l, 1., w - w_tangent};
+    const std::vector<double> *P[5] = {&av_mass, &av_bearing_c, &av_gyro, &av_tangent, &av_tangent2};
+    std::vector<std::complex<double>> x;
+    for (unsigned int k = 0; k < 5; ++k)
+      if (std::find(blocks.begin(), blocks.end(), P[k]) != blocks.end())
+        for (const auto &c : y)
+          x.push_back(a[k] * c);
+    return x;
+  }
+
   std::vector<double>
   PrestressedEigenproblem::error_estimates(const BackwardError                           &backward_error,
                                            const std::vector<const EigenPair *>          &modes,
                                            const std::vector<const ReducedBasis::Pair *> &dense,
+                                           const std::vector<double>                     &scale,
                                            const std::vector<const ComplexVector *>      &residual,
                                            const std::vector<const ComplexVector *>      &c_phi,
                                            const double                                   omega,
-                                           const double                                   w) const
+                                           const double                                   w)
   {
     // A Ritz value errs by about s^H Q^-1 r / (y^H Q'(lambda) phi), with the
     // right residual r = Q(lambda) phi and the left one s = Q(lambda)^H y of
@@ -152,40 +185,115 @@ namespace rotorfit
     std::vector<std::vector<std::complex<double>>> left;
     for (const auto *d : dense)
       left.push_back(d->w);
-    Expanded y = expanded(left, omega, w, true);
-    if (!(y.mismatch(backward_error, true) <= product_tolerance))
+    Expanded   y    = expanded(left, omega, w, true);
+    const bool kept = y.mismatch(backward_error, true) <= product_tolerance;
+    if (!kept)
       for (std::size_t k = 0; k < left.size(); ++k)
         {
           replicated_vmult(matrices.mass, y.v[k], y.m[k]);
           replicated_vmult(damping, y.v[k], y.c[k], true);
           replicated_vmult(tangent, y.v[k], y.k[k], true);
         }
-    std::vector<ComplexVector>          s(modes.size());
-    std::vector<double>                 denominator(modes.size());
-    std::vector<const Vector<double> *> rhs;
+    std::vector<double> denominator(modes.size()), estimate(modes.size());
     for (std::size_t k = 0; k < modes.size(); ++k)
       {
-        const EigenPair           &p = *modes[k];
-        const std::complex<double> l = std::conj(p.lambda);
-        s[k]                         = y.k[k];
-        axpy(l * l, y.m[k], s[k]);
-        axpy(l, y.c[k], s[k]);
+        const EigenPair &p = *modes[k];
         // y^H Q'(lambda) phi = y^H (2 lambda M phi + C phi)
         denominator[k] =
           std::abs(2. * p.lambda * dot(y.v[k], p.m_phi) + dot(y.v[k], *c_phi[k])) *
           std::abs(p.lambda);
+      }
+    const auto ratio = [&](const std::size_t k, const double norm_r, const double norm_s) {
+      return denominator[k] > 0 ? norm_r * norm_s / denominator[k] :
+                                  std::numeric_limits<double>::infinity();
+    };
+
+    // Both residuals lie in the span of the kept products [M V, C_b V, G V,
+    // K_t V, K_t2 V] (unless the sparse transposed products were needed):
+    // with their Gram matrix in the S^-1 norm a speed's estimates cost no
+    // back-substitution. It costs as many back-substituted columns as the
+    // blocks have, so it is made where the basis is to serve many speeds
+    // (a lasting anchor's), or once the estimates on it have cost as much.
+    const auto key = std::make_tuple(reduced.version(), key_tangent.k_sigma, key_tangent.rpm,
+                                     key_bearing.rpm, eigensolver.linear_solver().n_factorizations());
+    if (gram.key != key)
+      gram = ResidualGram{{}, residual_blocks(), key};
+    const auto &blocks = gram.blocks;
+    const unsigned int rhs_count = 4 * modes.size();
+    bool               fresh     = false;
+    // (its rounding stays far below the tolerance: 1e-11 against 1e-9 or more)
+    if (kept && gram.g.empty() && !gram.refused && reduced.tolerance() >= 100 * gram_floor &&
+        (reduced.version() == gram_eager_version ||
+         gram.spent + rhs_count > blocks.size() * reduced.size()))
+      {
+        const auto t0 = std::chrono::steady_clock::now();
+        gram.g        = replicated_inverse_gram(eigensolver.linear_solver(), matrices.mass, blocks);
+        gram.seconds  = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        fresh         = true;
+      }
+    std::vector<double> from_gram(modes.size());
+    if (kept && !gram.g.empty())
+      {
+        for (std::size_t k = 0; k < modes.size(); ++k)
+          {
+            const std::complex<double>        l = modes[k]->lambda;
+            std::vector<std::complex<double>> x =
+              residual_coefficients(dense[k]->y, l, omega, w, false, blocks);
+            for (auto &c : x)
+              c /= scale[k];
+            const double norm_r = std::sqrt(std::abs(inverse_norm_sqr(gram.g, x)));
+            x                   = residual_coefficients(dense[k]->w, l, omega, w, true, blocks);
+            from_gram[k] = ratio(k, norm_r, std::sqrt(std::abs(inverse_norm_sqr(gram.g, x))));
+          }
+        // a new Gram matrix is checked once against the back-substitutions
+        // below, on this speed's modes; after that it stands for them
+        if (!fresh)
+          return from_gram;
+      }
+    else
+      gram.spent += rhs_count;
+
+    std::vector<ComplexVector>          s(modes.size());
+    std::vector<const Vector<double> *> rhs;
+    for (std::size_t k = 0; k < modes.size(); ++k)
+      {
+        const std::complex<double> l = std::conj(modes[k]->lambda);
+        s[k]                         = y.k[k];
+        axpy(l * l, y.m[k], s[k]);
+        axpy(l, y.c[k], s[k]);
         rhs.insert(rhs.end(), {&residual[k]->re, &residual[k]->im, &s[k].re, &s[k].im});
       }
     std::vector<Vector<double>> t;
     replicated_solve(eigensolver.linear_solver(), matrices.mass, rhs, t);
-    std::vector<double> estimate(modes.size());
     for (std::size_t k = 0; k < modes.size(); ++k)
       {
         const ComplexVector tr{t[4 * k], t[4 * k + 1]}, ts{t[4 * k + 2], t[4 * k + 3]};
-        const double        norm_r = std::sqrt(std::abs(dot(*residual[k], tr)));
-        const double        norm_s = std::sqrt(std::abs(dot(s[k], ts)));
-        estimate[k] = denominator[k] > 0 ? norm_r * norm_s / denominator[k] :
-                                           std::numeric_limits<double>::infinity();
+        estimate[k] = ratio(k, std::sqrt(std::abs(dot(*residual[k], tr))),
+                            std::sqrt(std::abs(dot(s[k], ts))));
+      }
+    if (fresh)
+      {
+        // rounding of the Gram sums leaves about 1e-14 in an estimate (the
+        // tutorial disk: 6e-15), which may differ in relative terms where
+        // the estimate is that small; above it both must agree, else the
+        // back-substitutions stay
+        double difference = 0;
+        for (std::size_t k = 0; k < modes.size(); ++k)
+          difference = std::max(difference, std::abs(from_gram[k] - estimate[k]) /
+                                              (estimate[k] + gram_floor));
+        gram.refused = !(difference <= gram_agreement);
+        ++gram_builds;
+        gram_worst_difference = std::max(gram_worst_difference, difference);
+        std::ostringstream line;
+        line << "  eigen: Gram matrix of the residual blocks (" << reduced.size() << " x "
+             << blocks.size() << " columns) in " << std::setprecision(3) << gram.seconds
+             << " s; its estimates differ from the back-substituted ones by "
+             << std::setprecision(2) << difference
+             << (gram.refused ? ": not used (the estimates back-substitute on this basis)" : "")
+             << '\n';
+        log << line.str();
+        if (gram.refused)
+          gram.g.clear();
       }
     return estimate;
   }
@@ -272,6 +380,8 @@ namespace rotorfit
     if (directions > 1)
       add_directions(parts, false);
     reduced.anchors.push_back({rpm, radius});
+    if (lasting)
+      gram_eager_version = reduced.version();
   }
 
   void
@@ -382,6 +492,8 @@ namespace rotorfit
     const double omega  = SpeedSchedule::rpm_to_rad_per_s(state.rpm);
     const double top    = std::sqrt(std::max(0., modes[found - 1].mu) + sigma * sigma);
     reduced.anchors.push_back({state.rpm, top - reduced.slope_bound() * omega});
+    if (lasting)
+      gram_eager_version = reduced.version();
     double residual = 0;
     for (std::size_t i = 0; i < found; ++i)
       residual = std::max(residual, modes[i].residual);
@@ -496,14 +608,15 @@ namespace rotorfit
     const BackwardError        backward_error(matrices.mass, damping, tangent);
     std::vector<EigenPair>     pairs;
     std::vector<ComplexVector> residual(picked.size());
-    std::vector<bool> usable(picked.size());
+    std::vector<bool>   usable(picked.size());
+    std::vector<double> scale(picked.size());
     for (std::size_t i = 0; i < picked.size(); ++i)
       {
-        const double scale = std::sqrt(x.v[i].re.norm_sqr() + x.v[i].im.norm_sqr());
-        usable[i]          = scale > 0;
+        scale[i]  = std::sqrt(x.v[i].re.norm_sqr() + x.v[i].im.norm_sqr());
+        usable[i] = scale[i] > 0;
         if (usable[i])
           for (ComplexVector *z : {&x.v[i], &x.m[i], &x.c[i], &x.k[i]})
-            z->re /= scale, z->im /= scale;
+            z->re /= scale[i], z->im /= scale[i];
       }
     // the products are checked against this speed's sparse matrices on one
     // combination of the modes: the checks on the full matrices rest on them
@@ -561,6 +674,7 @@ namespace rotorfit
         std::vector<const EigenPair *>          wanted;
         std::vector<const ReducedBasis::Pair *> dense;
         std::vector<const ComplexVector *>      r, c_phi;
+        std::vector<double>                     scales;
         for (unsigned int i = 0; i < std::min<std::size_t>(n_wanted, solution.elastic.size()); ++i)
           {
             // its dense pair: the eigenvalue was copied from it unchanged
@@ -570,10 +684,11 @@ namespace rotorfit
             }) - picked.begin();
             dense.push_back(&all[picked[j]]);
             r.push_back(&residual[j]);
+            scales.push_back(scale[j]);
             c_phi.push_back(&x.c[j]);
           }
         const std::vector<double> estimate =
-          error_estimates(backward_error, wanted, dense, r, c_phi, omega, state.w());
+          error_estimates(backward_error, wanted, dense, scales, r, c_phi, omega, state.w());
         for (unsigned int i = 0; i < solution.elastic.size(); ++i)
           {
             // (beyond the wanted modes: no estimate, and they are dropped)

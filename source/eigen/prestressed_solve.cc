@@ -406,6 +406,8 @@ namespace rotorfit
       {
         summary.add("eigen.reduced_worst_error_estimate", reduced_worst, 12);
         summary.add("eigen.reduced_worst_product_mismatch", reduced_worst_products, 12);
+        summary.add("eigen.estimate_gram_matrices", gram_builds);
+        summary.add("eigen.estimate_gram_worst_difference", gram_worst_difference, 12);
       }
     summary.add("eigen.workspace_retries", eigensolver.linear_solver().n_workspace_retries());
     log << "Eigenproblem: " << speeds_done << " speeds (" << full_solves << " full, "

@@ -239,6 +239,20 @@ namespace rotorfit
                    const std::vector<const dealii::Vector<double> *> &b,
                    std::vector<dealii::Vector<double>>               &x);
 
+  /// G = P^T A^-1 P (column-major, symmetric, the same on every rank) for
+  /// the replicated columns of the blocks P = [P_1 .. P_b] (each n x m_k,
+  /// column-major), A factorised by @p solver: the inner products of the
+  /// columns in the A^-1 norm, so that |P x|^2_{A^-1} = x^H G x needs no
+  /// back-substitution (inverse_norm_sqr).
+  std::vector<double>
+  replicated_inverse_gram(const DirectSolver                             &solver,
+                          const dealii::PETScWrappers::MPI::SparseMatrix &layout,
+                          const std::vector<const std::vector<double> *> &blocks);
+
+  /// x^H G x for the real symmetric G of replicated_inverse_gram().
+  double
+  inverse_norm_sqr(const std::vector<double> &G, const std::vector<std::complex<double>> &x);
+
   /// Complex y = A x (or A^T x), A real.
   void
   replicated_vmult(const dealii::PETScWrappers::MPI::SparseMatrix &A,

@@ -17,6 +17,7 @@
 
 #include <functional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace rotorfit
@@ -214,15 +215,30 @@ namespace rotorfit
              const double                                          w,
              const bool                                            transpose) const;
     /// Estimated relative errors of reduced modes' eigenvalues, from their
-    /// residuals and C phi.
+    /// residuals (of the vectors V y / scale) and C phi.
     std::vector<double>
     error_estimates(const BackwardError                           &backward_error,
                     const std::vector<const EigenPair *>          &modes,
                     const std::vector<const ReducedBasis::Pair *> &dense,
+                    const std::vector<double>                     &scale,
                     const std::vector<const ComplexVector *>      &residual,
                     const std::vector<const ComplexVector *>      &c_phi,
                     const double                                   omega,
-                    const double                                   w) const;
+                    const double                                   w);
+    /// The kept products A V whose columns span every residual of a reduced
+    /// speed on the current projections: M, C_b, G, K_t, K_t2 (empty and
+    /// zero ones left out; the coefficients of residual_coefficients()).
+    std::vector<const std::vector<double> *>
+    residual_blocks() const;
+    /// x with Q(lambda) V y = [A_1 V .. A_b V] x for @p blocks, those of
+    /// residual_blocks() (the left residual Q(lambda)^H V y with @p transpose).
+    std::vector<std::complex<double>>
+    residual_coefficients(const std::vector<std::complex<double>> &y,
+                          std::complex<double>                     lambda,
+                          double                                   omega,
+                          double                                   w,
+                          bool                                     transpose,
+                          const std::vector<const std::vector<double> *> &blocks) const;
     /// A full solve's converged eigenvectors into the basis.
     void
     add_anchor(const double rpm, const std::vector<EigenPair> &pairs, const bool lasting);
@@ -286,6 +302,30 @@ namespace rotorfit
     /// a reduced speed's residuals and the response are made of them
     std::vector<double> av_mass, av_gyro, av_tangent, av_tangent2, av_bearing_c;
     double              w_tangent = 0;
+    /// The residual blocks' Gram matrix in the S^-1 norm of the latest
+    /// factorisation (replicated_inverse_gram): the error estimates of a
+    /// basis that serves many speeds without a back-substitution per speed
+    /// (doc/theory.md 8.6). Built for a lasting anchor's basis at once, for
+    /// another once its estimates have cost as many back-substituted columns
+    /// as the Gram matrix does.
+    struct ResidualGram
+    {
+      std::vector<double>                      g;
+      std::vector<const std::vector<double> *> blocks; ///< residual_blocks()
+      /// basis version, K_sigma serial, tangent and bearing speeds,
+      /// factorisations: what it was made for
+      std::tuple<unsigned int, unsigned int, double, double, unsigned int> key{~0u, 0, -1, -1, 0};
+      unsigned int spent   = 0;     ///< columns back-substituted for estimates on this key
+      bool         refused = false; ///< disagreed with the back-substitutions
+      double       seconds = 0;
+    } gram;
+    /// how far a new Gram matrix's estimates may stray from the
+    /// back-substituted ones: relative to the estimate plus gram_floor
+    static constexpr double gram_agreement = 1e-2, gram_floor = 1e-11;
+    unsigned int gram_builds = 0;
+    double       gram_worst_difference = 0;
+    /// the basis version a lasting anchor made (its Gram matrix is built at once)
+    unsigned int gram_eager_version = ~0u;
     /// what the projections were made for
     struct ProjectionKey
     {
