@@ -221,8 +221,8 @@ namespace rotorfit
     const auto &blocks = gram.blocks;
     const unsigned int rhs_count = 4 * modes.size();
     bool               fresh     = false;
-    // (its rounding stays far below the tolerance: 1e-11 against 1e-9 or more)
-    if (kept && gram.g.empty() && !gram.refused && reduced.tolerance() >= 100 * gram_floor &&
+    // (its rounding floor stays far below the tolerance)
+    if (kept && gram.g.empty() && !gram.refused && reduced.tolerance() >= 10 * gram_floor &&
         (reduced.version() == gram_eager_version ||
          gram.spent + rhs_count > blocks.size() * reduced.size()))
       {
@@ -273,14 +273,14 @@ namespace rotorfit
       }
     if (fresh)
       {
-        // rounding of the Gram sums leaves about 1e-14 in an estimate (the
-        // tutorial disk: 6e-15), which may differ in relative terms where
-        // the estimate is that small; above it both must agree, else the
-        // back-substitutions stay
+        // rounding of the Gram sums leaves a floor in an estimate (the
+        // tutorial disk: 6e-15 with an LDL^T, 1.4e-12 with the LU of a
+        // damped anchor), where the two may differ in relative terms; above
+        // it both must agree, else the back-substitutions stay
         double difference = 0;
         for (std::size_t k = 0; k < modes.size(); ++k)
           difference = std::max(difference, std::abs(from_gram[k] - estimate[k]) /
-                                              (estimate[k] + gram_floor));
+                                              std::max(estimate[k], gram_floor / gram_agreement));
         gram.refused = !(difference <= gram_agreement);
         ++gram_builds;
         gram_worst_difference = std::max(gram_worst_difference, difference);

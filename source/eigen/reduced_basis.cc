@@ -88,22 +88,16 @@ namespace rotorfit
   }
 
   void
-  ReducedBasis::m_orthogonalize(Vector<double>                         &v,
-                                const PETScWrappers::MPI::SparseMatrix &M,
-                                Vector<double>                         &mv) const
+  ReducedBasis::subtract_projection(Vector<double> &v, const Vector<double> &mv) const
   {
     const int n = v.size(), m = columns, one = 1;
     if (m == 0)
       return;
     const double        plus = 1, minus = -1, zero = 0;
     std::vector<double> c(m);
-    // classical Gram-Schmidt twice in the M inner product (V is M-orthonormal)
-    for (unsigned int pass = 0; pass < 2; ++pass)
-      {
-        dgemv_("T", &n, &m, &plus, flat.data(), &n, mv.data(), &one, &zero, c.data(), &one);
-        dgemv_("N", &n, &m, &minus, flat.data(), &n, c.data(), &one, &plus, v.data(), &one);
-        replicated_vmult(M, v, mv);
-      }
+    // v -= V V^T M v (V is M-orthonormal)
+    dgemv_("T", &n, &m, &plus, flat.data(), &n, mv.data(), &one, &zero, c.data(), &one);
+    dgemv_("N", &n, &m, &minus, flat.data(), &n, c.data(), &one, &plus, v.data(), &one);
   }
 
   std::vector<double>

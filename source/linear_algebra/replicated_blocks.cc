@@ -194,10 +194,6 @@ namespace rotorfit
                      G.data() + first[k] + std::size_t(start) * b, &b);
           }
       }
-    for (int i = 0; i < b; ++i)
-      for (int j = 0; j < i; ++j)
-        G[i + std::size_t(j) * b] = G[j + std::size_t(i) * b] =
-          0.5 * (G[i + std::size_t(j) * b] + G[j + std::size_t(i) * b]);
     // every rank takes the same decisions from it
     MPI_Bcast(G.data(), G.size(), MPI_DOUBLE, 0, layout.get_mpi_communicator());
     return G;
@@ -206,7 +202,9 @@ namespace rotorfit
   double
   inverse_norm_sqr(const std::vector<double> &G, const std::vector<std::complex<double>> &x)
   {
-    // x^H G x = re^T G re + im^T G im for a real symmetric G
+    // x^H G x = re^T G re + im^T G im + i (re^T G im - im^T G re); the
+    // imaginary part is rounding for a symmetric factorisation, not for
+    // an LU of Q(sigma)
     const int           b = x.size();
     std::vector<double> parts(2 * std::size_t(b)), Gp(2 * std::size_t(b));
     for (int i = 0; i < b; ++i)
@@ -214,10 +212,13 @@ namespace rotorfit
     const double one = 1, zero = 0;
     const int    two = 2;
     dgemm_("N", "N", &b, &two, &b, &one, G.data(), &b, parts.data(), &b, &zero, Gp.data(), &b);
-    double q = 0;
-    for (std::size_t i = 0; i < parts.size(); ++i)
-      q += parts[i] * Gp[i];
-    return q;
+    double re = 0, im = 0;
+    for (int i = 0; i < b; ++i)
+      {
+        re += parts[i] * Gp[i] + parts[b + i] * Gp[b + i];
+        im += parts[i] * Gp[b + i] - parts[b + i] * Gp[i];
+      }
+    return std::abs(std::complex<double>(re, im));
   }
 
 } // namespace rotorfit

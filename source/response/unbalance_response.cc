@@ -367,52 +367,106 @@ namespace rotorfit
           }
       }
 
-      /// Orthogonalise @p x against the basis (twice) and append it unless it
-      /// lies in the span; true if appended.
+      /// Orthogonalise the columns @p xs against the basis and each other
+      /// (twice) and append those not in its span; true if any was. Their
+      /// products with M, D, K are block products (one pass over a matrix
+      /// for all of them: the real and imaginary parts of a correction).
       bool
-      add(Vector<double> x)
+      add(std::vector<Vector<double>> xs)
       {
-        const double norm0 = x.l2_norm();
-        if (!(norm0 > 0) || !std::isfinite(norm0))
+        std::vector<Vector<double>> x, mx;
+        std::vector<double>         norm0;
+        for (auto &z : xs)
+          {
+            const double a = z.l2_norm();
+            if (a > 0 && std::isfinite(a))
+              {
+                norm0.push_back(a);
+                x.push_back(std::move(z));
+              }
+          }
+        if (x.empty())
           return false;
-        Vector<double> mx; // M x of the column kept, where known
+        const std::size_t old = v.size();
         if (head() > 0)
           {
             // M-orthonormal like the head (columns of one scale keep the
-            // projected system as well conditioned as the basis is)
-            replicated_vmult(op.mass, x, mx);
-            const double m_norm0 = std::sqrt(std::max(0., x * mx));
-            op.basis->m_orthogonalize(x, op.mass, mx);
+            // projected system as well conditioned as the basis is): against
+            // the head twice, then the explicit columns, then each other
+            replicated_mmult(op.mass, pointers(x), mx);
+            for (std::size_t i = 0; i < x.size(); ++i)
+              norm0[i] = std::sqrt(std::max(0., x[i] * mx[i]));
             for (unsigned int pass = 0; pass < 2; ++pass)
-              for (std::size_t e = 0; e < v.size(); ++e)
-                x.add(-(mv[e] * x), v[e]);
-            replicated_vmult(op.mass, x, mx);
-            const double m_norm = std::sqrt(std::max(0., x * mx));
-            if (!(m_norm > 1e-10 * m_norm0))
-              return false;
-            x /= m_norm;
-            mx /= m_norm;
+              {
+                for (std::size_t i = 0; i < x.size(); ++i)
+                  op.basis->subtract_projection(x[i], mx[i]);
+                replicated_mmult(op.mass, pointers(x), mx);
+              }
+            for (std::size_t i = 0; i < x.size(); ++i)
+              for (unsigned int pass = 0; pass < 2; ++pass)
+                for (std::size_t e = 0; e < old; ++e)
+                  x[i].add(-(mv[e] * x[i]), v[e]);
+            replicated_mmult(op.mass, pointers(x), mx);
+            for (std::size_t i = 0; i < x.size(); ++i)
+              {
+                if (v.size() > old)
+                  {
+                    // the columns of this block kept before it
+                    for (unsigned int pass = 0; pass < 2; ++pass)
+                      for (std::size_t e = old; e < v.size(); ++e)
+                        x[i].add(-(mv[e] * x[i]), v[e]);
+                    replicated_vmult(op.mass, x[i], mx[i]);
+                  }
+                const double m_norm = std::sqrt(std::max(0., x[i] * mx[i]));
+                if (!(m_norm > 1e-10 * norm0[i]))
+                  continue;
+                x[i] /= m_norm;
+                mx[i] /= m_norm;
+                v.push_back(std::move(x[i]));
+                mv.push_back(std::move(mx[i]));
+              }
           }
         else
           {
-            for (unsigned int pass = 0; pass < 2; ++pass)
-              for (const auto &q : v)
-                x.add(-(q * x), q);
-            const double norm = x.l2_norm();
-            if (!(norm > 1e-10 * norm0))
-              return false;
-            x /= norm;
+            for (std::size_t i = 0; i < x.size(); ++i)
+              {
+                for (unsigned int pass = 0; pass < 2; ++pass)
+                  for (const auto &q : v)
+                    x[i].add(-(q * x[i]), q);
+                const double norm = x[i].l2_norm();
+                if (!(norm > 1e-10 * norm0[i]))
+                  continue;
+                x[i] /= norm;
+                v.push_back(std::move(x[i]));
+              }
+            std::vector<const Vector<double> *> added;
+            for (std::size_t e = old; e < v.size(); ++e)
+              added.push_back(&v[e]);
+            replicated_mmult(op.mass, added, mx);
+            for (auto &z : mx)
+              mv.push_back(std::move(z));
           }
-        v.push_back(x);
-        for (auto *p : {&mv, &dv, &kv})
-          p->emplace_back();
-        if (mx.size() > 0)
-          mv.back() = std::move(mx);
-        else
-          replicated_vmult(op.mass, x, mv.back());
-        replicated_vmult(op.damping, x, dv.back());
-        replicated_vmult(op.stiffness, x, kv.back());
-        return true;
+        std::vector<const Vector<double> *> added;
+        for (std::size_t e = old; e < v.size(); ++e)
+          added.push_back(&v[e]);
+        std::vector<Vector<double>> dx, kx;
+        replicated_mmult(op.damping, added, dx);
+        replicated_mmult(op.stiffness, added, kx);
+        for (std::size_t e = 0; e < added.size(); ++e)
+          {
+            dv.push_back(std::move(dx[e]));
+            kv.push_back(std::move(kx[e]));
+          }
+        return v.size() > old;
+      }
+
+      static std::vector<const Vector<double> *>
+      pointers(const std::vector<Vector<double>> &x)
+      {
+        std::vector<const Vector<double> *> p;
+        for (const auto &z : x)
+          p.push_back(&z);
+        return p;
       }
     };
   } // namespace
@@ -442,15 +496,18 @@ namespace rotorfit
       // the speed's modes lie in the eigen reduced basis when it solved them
       if (!o.basis)
         for (const auto &p : modes)
-          {
-            basis.add(p.phi.re);
-            basis.add(p.phi.im);
-          }
-      // the real and imaginary parts in one pass over the factors
+          basis.add({p.phi.re, p.phi.im});
+      // S^-1 F: F = Omega^2 F_0, so the direction of the latest
+      // factorisation's S^-1 F_0 (the real and imaginary parts in one pass
+      // over the factors), made once per factorisation
+      if (correction_factor != std::make_pair(&o.shifted_inverse, o.shifted_inverse.n_factorizations()))
+        {
+          const ComplexVector f0 = forcing();
+          replicated_solve(o.shifted_inverse, o.mass, {&f0.re, &f0.im}, static_correction);
+          correction_factor = {&o.shifted_inverse, o.shifted_inverse.n_factorizations()};
+        }
+      basis.add(static_correction);
       std::vector<Vector<double>> x;
-      replicated_solve(o.shifted_inverse, o.mass, {&f.re, &f.im}, x);
-      for (auto &z : x)
-        basis.add(std::move(z));
       double previous = std::numeric_limits<double>::infinity();
       for (unsigned int step = 0;; ++step)
         {
@@ -467,8 +524,7 @@ namespace rotorfit
           if (step < max_enrichment)
             {
               replicated_solve(o.shifted_inverse, o.mass, {&r.re, &r.im}, x);
-              for (auto &z : x)
-                grown |= basis.add(std::move(z));
+              grown = basis.add(std::move(x));
             }
           if (!grown)
             return false;

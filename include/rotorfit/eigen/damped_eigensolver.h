@@ -239,17 +239,17 @@ namespace rotorfit
                    const std::vector<const dealii::Vector<double> *> &b,
                    std::vector<dealii::Vector<double>>               &x);
 
-  /// G = P^T A^-1 P (column-major, symmetric, the same on every rank) for
+  /// G = P^T A^-1 P (column-major, the same on every rank) for
   /// the replicated columns of the blocks P = [P_1 .. P_b] (each n x m_k,
-  /// column-major), A factorised by @p solver: the inner products of the
-  /// columns in the A^-1 norm, so that |P x|^2_{A^-1} = x^H G x needs no
-  /// back-substitution (inverse_norm_sqr).
+  /// column-major), A factorised by @p solver (LDL^T or LU): the inner
+  /// products of the columns with A^-1, so that |(P x)^H A^-1 (P x)| =
+  /// |x^H G x| needs no back-substitution (inverse_norm_sqr).
   std::vector<double>
   replicated_inverse_gram(const DirectSolver                             &solver,
                           const dealii::PETScWrappers::MPI::SparseMatrix &layout,
                           const std::vector<const std::vector<double> *> &blocks);
 
-  /// x^H G x for the real symmetric G of replicated_inverse_gram().
+  /// |x^H G x| for the real G of replicated_inverse_gram().
   double
   inverse_norm_sqr(const std::vector<double> &G, const std::vector<std::complex<double>> &x);
 

@@ -320,8 +320,10 @@ namespace rotorfit
       double       seconds = 0;
     } gram;
     /// how far a new Gram matrix's estimates may stray from the
-    /// back-substituted ones: relative to the estimate plus gram_floor
-    static constexpr double gram_agreement = 1e-2, gram_floor = 1e-11;
+    /// back-substituted ones: relative, or by gram_floor (its rounding
+    /// floor, with a margin) where they are smaller; used where the
+    /// tolerance is 10 x the floor
+    static constexpr double gram_agreement = 1e-2, gram_floor = 1e-10;
     unsigned int gram_builds = 0;
     double       gram_worst_difference = 0;
     /// the basis version a lasting anchor made (its Gram matrix is built at once)

@@ -107,13 +107,10 @@ namespace rotorfit
     add(const std::vector<const dealii::Vector<double> *> &x,
         const dealii::PETScWrappers::MPI::SparseMatrix    &M);
 
-    /// M-orthogonalise @p v against the basis in place (classical
-    /// Gram-Schmidt twice); @p mv: M v on entry and on return.
+    /// One classical Gram-Schmidt step in the M inner product: v -= V V^T mv
+    /// with @p mv = M v (the caller makes the products, for a block at once).
     void
-    m_orthogonalize(dealii::Vector<double>                         &v,
-                    const dealii::PETScWrappers::MPI::SparseMatrix &M,
-                    dealii::Vector<double>                         &mv) const;
-
+    subtract_projection(dealii::Vector<double> &v, const dealii::Vector<double> &mv) const;
     /// V^T x.
     std::vector<double>
     coefficients(const dealii::Vector<double> &x) const;

@@ -152,6 +152,10 @@ namespace rotorfit
     double                 tolerance      = 1e-8;
     unsigned int           max_enrichment = 20;
 
+    /// S^-1 F_0 (real, imaginary part) of the factorisation named by
+    /// correction_factor (solver, its factorisation count)
+    std::vector<dealii::Vector<double>>          static_correction;
+    std::pair<const DirectSolver *, unsigned int> correction_factor{nullptr, 0};
     std::vector<ResponseAtSpeed> history;
     unsigned int                 unconverged_speeds = 0;
     unsigned int                 reduced_speeds     = 0; ///< solved on the eigen reduced basis
