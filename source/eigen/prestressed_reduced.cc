@@ -23,15 +23,6 @@ namespace rotorfit
 
   namespace
   {
-    std::vector<const Vector<double> *>
-    pointers(const std::vector<Vector<double>> &v)
-    {
-      std::vector<const Vector<double> *> p;
-      for (const auto &x : v)
-        p.push_back(&x);
-      return p;
-    }
-
     /// How far the kept products (A V) y may stray from A (V y), relative.
     /// Rounding, amplified by the cancellation that penalty ties cause in
     /// K_t phi, reaches 6.7e-9 on the tutorial disk and 5e-10 on TS; a

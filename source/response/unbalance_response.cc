@@ -459,15 +459,6 @@ namespace rotorfit
           }
         return v.size() > old;
       }
-
-      static std::vector<const Vector<double> *>
-      pointers(const std::vector<Vector<double>> &x)
-      {
-        std::vector<const Vector<double> *> p;
-        for (const auto &z : x)
-          p.push_back(&z);
-        return p;
-      }
     };
   } // namespace
 

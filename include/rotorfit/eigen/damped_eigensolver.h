@@ -210,6 +210,16 @@ namespace rotorfit
                    dealii::Vector<double>                         &y,
                    const bool                                      transpose = false);
 
+  /// Pointers to the vectors of @p x (a block's argument list).
+  inline std::vector<const dealii::Vector<double> *>
+  pointers(const std::vector<dealii::Vector<double>> &x)
+  {
+    std::vector<const dealii::Vector<double> *> p;
+    for (const auto &z : x)
+      p.push_back(&z);
+    return p;
+  }
+
   /// Y = A X for @p m replicated columns, column-major n x m arrays (one
   /// pass over A for several columns).
   void
