@@ -183,7 +183,7 @@ namespace rotorfit
     void
     log_speed(const EigenSolution &solution, const DampedEigensolver::Statistics &stats,
               const double worst) const;
-    /// Reduced model (prestressed_reduced.cc): the modes of @p state from
+    /// Reduced model (prestressed_reduced.cc; its checks reduced_estimates.cc): the modes of @p state from
     /// the basis, checked on the full matrices; false (and @p why) if they
     /// do not pass and the speed needs the full solve.
     bool
@@ -319,6 +319,13 @@ namespace rotorfit
       bool         refused = false; ///< disagreed with the back-substitutions
       double       seconds = 0;
     } gram;
+    /// How far the kept products (A V) y may stray from A (V y), relative.
+    /// Rounding, amplified by the cancellation that penalty ties cause in
+    /// K_t phi, reaches 6.7e-9 on the tutorial disk and 5e-10 on TS; a
+    /// product kept from another speed or tied set errs by the speed's own
+    /// share of the tangent or more (Omega^2 K_t2 phi: 1e-3 .. 1e-2 of
+    /// K_t phi), a tangent 1e-4 off is refused.
+    static constexpr double product_tolerance = 1e-6;
     /// how far a new Gram matrix's estimates may stray from the
     /// back-substituted ones: relative, or by gram_floor (its rounding
     /// floor, with a margin) where they are smaller; used where the

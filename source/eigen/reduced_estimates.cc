@@ -1,0 +1,234 @@
+#include <rotorfit/eigen/prestressed_eigenproblem.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+
+// PrestressedEigenproblem, part 4: what a reduced speed's modes are checked
+// with (doc/theory.md 8.6): the modes' products with the full matrices from
+// the kept products A V, and the error estimates of their eigenvalues, by
+// back-substitution or from the Gram matrix of the residual blocks.
+
+namespace rotorfit
+{
+  using namespace dealii;
+
+  PrestressedEigenproblem::Expanded
+  PrestressedEigenproblem::expanded(const std::vector<std::vector<std::complex<double>>> &y,
+                                    const double                                          omega,
+                                    const double                                          w,
+                                    const bool transpose) const
+  {
+    const std::size_t n = matrices.mass.m();
+    Expanded          e;
+    for (auto *list : {&e.v, &e.m, &e.c, &e.k})
+      list->assign(y.size(), ComplexVector{Vector<double>(n), Vector<double>(n)});
+    const auto columns = [](std::vector<ComplexVector> &list) {
+      std::vector<ComplexVector *> z;
+      for (auto &x : list)
+        z.push_back(&x);
+      return z;
+    };
+    reduced.multiply(nullptr, y, 1., columns(e.v));
+    reduced.multiply(&av_mass, y, 1., columns(e.m));
+    reduced.multiply(&av_bearing_c, y, 1., columns(e.c));
+    reduced.multiply(&av_gyro, y, transpose ? -omega : omega, columns(e.c)); // G^T = -G
+    reduced.multiply(&av_tangent, y, 1., columns(e.k));
+    reduced.multiply(&av_tangent2, y, w - w_tangent, columns(e.k));
+    return e;
+  }
+
+  double
+  PrestressedEigenproblem::Expanded::mismatch(const BackwardError &backward_error,
+                                              const bool           transpose) const
+  {
+    ComplexVector sum[4];
+    const std::vector<ComplexVector> *part[4] = {&v, &m, &c, &k};
+    for (unsigned int j = 0; j < 4; ++j)
+      for (const auto &z : *part[j])
+        if (sum[j].re.size() == 0)
+          sum[j] = z;
+        else
+          sum[j].re += z.re, sum[j].im += z.im;
+    return v.empty() ? 0. : backward_error.mismatch(sum[0], sum[1], sum[2], sum[3], transpose);
+  }
+
+  std::vector<const std::vector<double> *>
+  PrestressedEigenproblem::residual_blocks() const
+  {
+    std::vector<const std::vector<double> *> blocks;
+    for (const auto *P : {&av_mass, &av_bearing_c, &av_gyro, &av_tangent, &av_tangent2})
+      if (std::any_of(P->begin(), P->end(), [](const double a) { return a != 0; }))
+        blocks.push_back(P);
+    return blocks;
+  }
+
+  std::vector<std::complex<double>>
+  PrestressedEigenproblem::residual_coefficients(const std::vector<std::complex<double>> &y,
+                                                 const std::complex<double>               lambda,
+                                                 const double                             omega,
+                                                 const double                             w,
+                                                 const bool transpose,
+                                                 const std::vector<const std::vector<double> *> &blocks) const
+  {
+    // Q(lambda) V y = lambda^2 M V y + lambda (C_b V + omega G V) y +
+    // (K_t V + (w - w_tangent) K_t2 V) y, as expanded() makes it; its
+    // transpose with conj(lambda) and C_b - omega G
+    const std::complex<double> l = transpose ? std::conj(lambda) : lambda;
+    const std::complex<double> a[5] = {l * l, l, (transpose ? -omega : omega) * l, 1., w - w_tangent};
+    const std::vector<double> *P[5] = {&av_mass, &av_bearing_c, &av_gyro, &av_tangent, &av_tangent2};
+    std::vector<std::complex<double>> x;
+    for (unsigned int k = 0; k < 5; ++k)
+      if (std::find(blocks.begin(), blocks.end(), P[k]) != blocks.end())
+        for (const auto &c : y)
+          x.push_back(a[k] * c);
+    return x;
+  }
+
+  std::vector<double>
+  PrestressedEigenproblem::error_estimates(const BackwardError                           &backward_error,
+                                           const std::vector<const EigenPair *>          &modes,
+                                           const std::vector<const ReducedBasis::Pair *> &dense,
+                                           const std::vector<double>                     &scale,
+                                           const std::vector<const ComplexVector *>      &residual,
+                                           const std::vector<const ComplexVector *>      &c_phi,
+                                           const double                                   omega,
+                                           const double                                   w)
+  {
+    // A Ritz value errs by about s^H Q^-1 r / (y^H Q'(lambda) phi), with the
+    // right residual r = Q(lambda) phi and the left one s = Q(lambda)^H y of
+    // the reduced left vector y (a damped rotor's left and right vectors
+    // differ, so the error is not second order in r alone). Q(sigma) of the
+    // latest full solve stands for Q: sigma lies far below the modes, and
+    // the error components outside the basis are stiffer than the mode
+    // (doc/theory.md 8.6). Bounded by Cauchy-Schwarz in its norm.
+    const auto dot = [](const ComplexVector &a, const ComplexVector &b) { // a^H b
+      return std::complex<double>(a.re * b.re + a.im * b.im, a.re * b.im - a.im * b.re);
+    };
+    const auto axpy = [](const std::complex<double> a, const ComplexVector &x, ComplexVector &z) {
+      z.re.add(a.real(), x.re, -a.imag(), x.im);
+      z.im.add(a.imag(), x.re, a.real(), x.im);
+    };
+    // y and Q(lambda)^H y = (conj(lambda)^2 M + conj(lambda) C^T + K_t^T) y
+    // from the kept products with C^T = C_b - omega G and K_t^T = K_t, where
+    // the sparse transposed products on their sum agree (not so with
+    // cross-coupled bearings: then the sparse products for each)
+    std::vector<std::vector<std::complex<double>>> left;
+    for (const auto *d : dense)
+      left.push_back(d->w);
+    Expanded   y    = expanded(left, omega, w, true);
+    const bool kept = y.mismatch(backward_error, true) <= product_tolerance;
+    if (!kept)
+      for (std::size_t k = 0; k < left.size(); ++k)
+        {
+          replicated_vmult(matrices.mass, y.v[k], y.m[k]);
+          replicated_vmult(damping, y.v[k], y.c[k], true);
+          replicated_vmult(tangent, y.v[k], y.k[k], true);
+        }
+    std::vector<double> denominator(modes.size()), estimate(modes.size());
+    for (std::size_t k = 0; k < modes.size(); ++k)
+      {
+        const EigenPair &p = *modes[k];
+        // y^H Q'(lambda) phi = y^H (2 lambda M phi + C phi)
+        denominator[k] =
+          std::abs(2. * p.lambda * dot(y.v[k], p.m_phi) + dot(y.v[k], *c_phi[k])) *
+          std::abs(p.lambda);
+      }
+    const auto ratio = [&](const std::size_t k, const double norm_r, const double norm_s) {
+      return denominator[k] > 0 ? norm_r * norm_s / denominator[k] :
+                                  std::numeric_limits<double>::infinity();
+    };
+
+    // Both residuals lie in the span of the kept products [M V, C_b V, G V,
+    // K_t V, K_t2 V] (unless the sparse transposed products were needed):
+    // with their Gram matrix in the S^-1 norm a speed's estimates cost no
+    // back-substitution. It costs as many back-substituted columns as the
+    // blocks have, so it is made where the basis is to serve many speeds
+    // (a lasting anchor's), or once the estimates on it have cost as much.
+    const auto key = std::make_tuple(reduced.version(), key_tangent.k_sigma, key_tangent.rpm,
+                                     key_bearing.rpm, eigensolver.linear_solver().n_factorizations());
+    if (gram.key != key)
+      gram = ResidualGram{{}, residual_blocks(), key};
+    const auto &blocks = gram.blocks;
+    const unsigned int rhs_count = 4 * modes.size();
+    bool               fresh     = false;
+    // (its rounding floor stays far below the tolerance)
+    if (kept && gram.g.empty() && !gram.refused && reduced.tolerance() >= 10 * gram_floor &&
+        (reduced.version() == gram_eager_version ||
+         gram.spent + rhs_count > blocks.size() * reduced.size()))
+      {
+        const auto t0 = std::chrono::steady_clock::now();
+        gram.g        = replicated_inverse_gram(eigensolver.linear_solver(), matrices.mass, blocks);
+        gram.seconds  = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        fresh         = true;
+      }
+    std::vector<double> from_gram(modes.size());
+    if (kept && !gram.g.empty())
+      {
+        for (std::size_t k = 0; k < modes.size(); ++k)
+          {
+            const std::complex<double>        l = modes[k]->lambda;
+            std::vector<std::complex<double>> x =
+              residual_coefficients(dense[k]->y, l, omega, w, false, blocks);
+            for (auto &c : x)
+              c /= scale[k];
+            const double norm_r = std::sqrt(std::abs(inverse_norm_sqr(gram.g, x)));
+            x                   = residual_coefficients(dense[k]->w, l, omega, w, true, blocks);
+            from_gram[k] = ratio(k, norm_r, std::sqrt(std::abs(inverse_norm_sqr(gram.g, x))));
+          }
+        // a new Gram matrix is checked once against the back-substitutions
+        // below, on this speed's modes; after that it stands for them
+        if (!fresh)
+          return from_gram;
+      }
+    else
+      gram.spent += rhs_count;
+
+    std::vector<ComplexVector>          s(modes.size());
+    std::vector<const Vector<double> *> rhs;
+    for (std::size_t k = 0; k < modes.size(); ++k)
+      {
+        const std::complex<double> l = std::conj(modes[k]->lambda);
+        s[k]                         = y.k[k];
+        axpy(l * l, y.m[k], s[k]);
+        axpy(l, y.c[k], s[k]);
+        rhs.insert(rhs.end(), {&residual[k]->re, &residual[k]->im, &s[k].re, &s[k].im});
+      }
+    std::vector<Vector<double>> t;
+    replicated_solve(eigensolver.linear_solver(), matrices.mass, rhs, t);
+    for (std::size_t k = 0; k < modes.size(); ++k)
+      {
+        const ComplexVector tr{t[4 * k], t[4 * k + 1]}, ts{t[4 * k + 2], t[4 * k + 3]};
+        estimate[k] = ratio(k, std::sqrt(std::abs(dot(*residual[k], tr))),
+                            std::sqrt(std::abs(dot(s[k], ts))));
+      }
+    if (fresh)
+      {
+        // rounding of the Gram sums leaves a floor in an estimate (the
+        // tutorial disk: 6e-15 with an LDL^T, 1.4e-12 with the LU of a
+        // damped anchor), where the two may differ in relative terms; above
+        // it both must agree, else the back-substitutions stay
+        double difference = 0;
+        for (std::size_t k = 0; k < modes.size(); ++k)
+          difference = std::max(difference, std::abs(from_gram[k] - estimate[k]) /
+                                              std::max(estimate[k], gram_floor / gram_agreement));
+        gram.refused = !(difference <= gram_agreement);
+        ++gram_builds;
+        gram_worst_difference = std::max(gram_worst_difference, difference);
+        std::ostringstream line;
+        line << "  eigen: Gram matrix of the residual blocks (" << reduced.size() << " x "
+             << blocks.size() << " columns) in " << std::setprecision(3) << gram.seconds
+             << " s; its estimates differ from the back-substituted ones by "
+             << std::setprecision(2) << difference
+             << (gram.refused ? ": not used (the estimates back-substitute on this basis)" : "")
+             << '\n';
+        log << line.str();
+        if (gram.refused)
+          gram.g.clear();
+      }
+    return estimate;
+  }
+} // namespace rotorfit
