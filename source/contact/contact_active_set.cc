@@ -6,6 +6,7 @@
 #include <cmath>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <tuple>
 
@@ -20,6 +21,9 @@ namespace rotorfit
   ContactSolver::State
   ContactSolver::solve(const double w)
   {
+    if (path_finished)
+      throw std::logic_error("ContactSolver::solve() after finish_path(): every speed's state "
+                             "was made ahead");
     const unsigned int n = pairs->pairs().size();
     State              state;
     const unsigned int factorizations_before = solver.n_factorizations();

@@ -211,6 +211,7 @@ namespace rotorfit
     influence_columns = 0;
     times             = Timing();
     path_started      = false;
+    path_finished     = false;
     path_w            = 0;
     u_serial          = 0;
     worst_pair_residual = 0;
@@ -356,6 +357,16 @@ namespace rotorfit
     solver.release();
     clear_update();
     base_valid = false;
+  }
+
+  void
+  ContactSolver::finish_path()
+  {
+    solver.release();
+    clear_update();
+    system_matrix.clear();
+    base_valid    = false;
+    path_finished = true;
   }
 
   void
@@ -577,11 +588,11 @@ namespace rotorfit
   }
 
   void
-  ContactSolver::displacement(const double w, PETScWrappers::MPI::Vector &u) const
+  ContactSolver::displacement(const Decomposition &d, const double w, PETScWrappers::MPI::Vector &u) const
   {
     PETScWrappers::MPI::Vector tmp(owned, comm);
-    tmp = current.u_I;
-    tmp.add(w, current.u_C);
+    tmp = d.u_I;
+    tmp.add(w, d.u_C);
     u.reinit(owned, all_dofs, comm);
     u = tmp;
   }

@@ -1,5 +1,6 @@
 #include <rotorfit/base/format.h>
 #include <rotorfit/base/input_error.h>
+#include <rotorfit/base/resources.h>
 #include <rotorfit/base/run_control.h>
 #include <rotorfit/problem/rotor_problem.h>
 
@@ -23,6 +24,10 @@ namespace rotorfit
   RotorProblem::run()
   {
     assemble_speed_independent_matrices();
+    if (eigen.enabled())
+      // the static factorisation would otherwise be held next to every
+      // eigen factorisation, the run's memory peak
+      statics.solve_ahead(speeds.speeds_rpm());
     if (collect_indicators)
       refinement.reset(model);
     const auto &rpm = speeds.speeds_rpm();
@@ -188,6 +193,10 @@ namespace rotorfit
       summary.add("run.stopped_at", where);
     if (!message.empty())
       summary.add("run.message", message);
+    // the job's memory: every rank's peak resident set, added (Linux)
+    const double peak = Utilities::MPI::sum(resources::resident_bytes(true), comm);
+    summary.add("run.peak_memory_gb", peak / 1e9);
+    log << "Peak memory: " << resources::gigabytes(peak) << " (resident, all ranks)\n";
     results.finish(summary, modal_steps > 0);
     if (assembled)
       {

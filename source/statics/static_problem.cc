@@ -1,4 +1,7 @@
+#include <rotorfit/base/format.h>
 #include <rotorfit/base/input_error.h>
+#include <rotorfit/base/resources.h>
+#include <rotorfit/base/run_control.h>
 #include <rotorfit/material/elasticity.h>
 #include <rotorfit/statics/speed_schedule.h>
 #include <rotorfit/statics/static_problem.h>
@@ -60,6 +63,8 @@ namespace rotorfit
       setup_system();
       assemble_system();
     }
+    ahead.clear();
+    last_law.reset();
     contact.initialize({model.pairs(),
                         model.static_constraints(),
                         sparsity,
@@ -184,20 +189,80 @@ namespace rotorfit
   const StaticState &
   StaticProblem::solve(const double rpm, const unsigned int index)
   {
-    const double w = std::pow(SpeedSchedule::rpm_to_rad_per_s(rpm), 2);
-    state        = StaticState();
-    state.solver = &contact;
-    state.rpm    = rpm;
-    state.index  = index;
-    {
-      TimerOutput::Scope t(timer, "contact solve");
-      state.contact = contact.solve(w);
-    }
+    if (index < ahead.size() && ahead[index].failure)
+      std::rethrow_exception(ahead[index].failure);
+    if (index < ahead.size() && ahead[index].state.rpm == rpm)
+      state = std::move(ahead[index].state);
+    else
+      state = contact_state(rpm, index);
     check_finite(state);
     uzawa_iterations += state.contact.uzawa_iterations;
     contact_events += state.contact.events.size();
-    history.record(state, contact.decomposition(), contact.constraint_error_limit());
+    history.record(state, state.decomposition(), contact.constraint_error_limit());
     return state;
+  }
+
+  StaticState
+  StaticProblem::contact_state(const double rpm, const unsigned int index)
+  {
+    const double w = std::pow(SpeedSchedule::rpm_to_rad_per_s(rpm), 2);
+    StaticState  s;
+    s.solver = &contact;
+    s.rpm    = rpm;
+    s.index  = index;
+    {
+      TimerOutput::Scope t(timer, "contact solve");
+      s.contact = contact.solve(w);
+    }
+    // one copy of the law per segment: speeds on it share it
+    const auto &d = contact.decomposition();
+    if (!(last_law && last_law->serial == d.serial))
+      last_law = std::make_shared<const ContactSolver::Decomposition>(d);
+    s.law = last_law;
+    return s;
+  }
+
+  void
+  StaticProblem::solve_ahead(const std::vector<double> &rpm)
+  {
+    ahead.clear();
+    if (!exact_path())
+      return;
+    // the laws kept must stay well below the factorisation they replace
+    const double       n_dofs  = model.dofs().n_dofs();
+    const double       limit   = 0.5 * resources::factorization_bytes(n_dofs, true);
+    const double       per_law = 2. * 8. * n_dofs; // u_I, u_C
+    double             kept    = 0;
+    unsigned int       serial  = 0;
+    for (unsigned int k = 0; k < rpm.size(); ++k)
+      {
+        run_control::stop_if_interrupted(comm, "before " + format_number(rpm[k]) + " r/min");
+        Ahead a;
+        try
+          {
+            a.state = contact_state(rpm[k], k);
+          }
+        catch (...)
+          {
+            // met again, in order, when the run reaches this speed
+            a.failure = std::current_exception();
+            ahead.push_back(std::move(a));
+            return; // the path cannot go on: the factorisation stays
+          }
+        if (a.state.decomposition().serial != serial)
+          {
+            serial = a.state.decomposition().serial;
+            kept += per_law;
+          }
+        ahead.push_back(std::move(a));
+        if (kept > limit)
+          return; // the later speeds follow the path as they come
+      }
+    contact.finish_path();
+    // nothing static is solved any more (assemble() makes them anew)
+    stiffness.clear();
+    spin_softening_matrix.clear();
+    sparsity = DynamicSparsityPattern();
   }
 
   void

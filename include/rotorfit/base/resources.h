@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <string>
 
 namespace rotorfit
@@ -52,6 +53,24 @@ namespace rotorfit
         }
       return static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
              static_cast<double>(::sysconf(_SC_PAGE_SIZE));
+    }
+
+    /// This process's resident memory [bytes], now or at its peak (Linux
+    /// /proc/self/status VmRSS, VmHWM; 0 where there is none).
+    inline double
+    resident_bytes(const bool peak)
+    {
+      std::FILE *f = std::fopen("/proc/self/status", "r");
+      if (f == nullptr)
+        return 0;
+      const char *key = peak ? "VmHWM:" : "VmRSS:";
+      char        line[256];
+      double      kib = 0;
+      while (std::fgets(line, sizeof(line), f) != nullptr)
+        if (std::strncmp(line, key, std::strlen(key)) == 0)
+          kib = std::atof(line + std::strlen(key));
+      std::fclose(f);
+      return kib * 1024.;
     }
 
     inline std::string

@@ -154,9 +154,9 @@ namespace rotorfit
       return current;
     }
 
-    /// Displacement at w of the last decomposition, ghosted (all DoFs).
+    /// Displacement at w of decomposition @p d, ghosted (all DoFs).
     void
-    displacement(const double w, dealii::PETScWrappers::MPI::Vector &u) const;
+    displacement(const Decomposition &d, const double w, dealii::PETScWrappers::MPI::Vector &u) const;
 
     Method
     method() const
@@ -212,6 +212,14 @@ namespace rotorfit
      */
     void
     release_factorization();
+
+    /**
+     * The exact path has been followed through every speed of the run and
+     * the owner keeps each speed's decomposition: free the factorisation
+     * (only the path's displacements needed it). solve() refuses from here.
+     */
+    void
+    finish_path();
 
     /// Active sets solved by low-rank updates of a factorisation, so far.
     unsigned int
@@ -432,7 +440,8 @@ namespace rotorfit
     // exact path: F = B^T K_base^-1 B (row-major, n x n), t_C = B^T K_base^-1
     // F_c, the base springs e (eps on the base's closed pairs), the inverse
     // of the pair-space matrix of path_active (Sherman-Morrison updates)
-    bool                path_started = false;
+    bool                path_started  = false;
+    bool                path_finished = false; ///< finish_path() was called
     double              path_w       = 0;
     std::vector<double> flexibility, t_C, base_spring, path_inverse;
     std::vector<bool>   path_active;

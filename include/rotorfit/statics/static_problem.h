@@ -14,6 +14,8 @@
 #include <deal.II/lac/petsc_sparse_matrix.h>
 #include <deal.II/lac/petsc_vector.h>
 
+#include <exception>
+#include <memory>
 #include <vector>
 
 namespace rotorfit
@@ -54,6 +56,18 @@ namespace rotorfit
     const StaticState &
     solve(const double rpm, const unsigned int index);
 
+    /**
+     * Exact path: follow it now through all speeds @p rpm of the run (pair
+     * space; two back-substitutions per segment met at a speed), keep each
+     * speed's state and free the static factorisation, so that it is not
+     * held next to the eigenproblem's. solve() then hands out the kept
+     * states in order (a failure on the way is thrown there, at its speed).
+     * The laws kept are capped at half the factorisation's size: past the
+     * cap the path goes on as the speeds come, on the factorisation.
+     */
+    void
+    solve_ahead(const std::vector<double> &rpm);
+
     /// Free the factorisation (its next use factorises again): the owner
     /// of the run calls this when a larger factorisation needs the memory.
     void
@@ -89,6 +103,9 @@ namespace rotorfit
     /// NaN or Inf in @p state (a factorisation that lost its digits).
     void
     check_finite(const StaticState &state) const;
+    /// The contact solve at @p rpm, with its law (no bookkeeping).
+    StaticState
+    contact_state(const double rpm, const unsigned int index);
 
     const Discretization &model;
     Log                  &log;
@@ -100,6 +117,14 @@ namespace rotorfit
     ContactSolver                  contact;
     FitHistory                     history;
     StaticState                    state;
+    /// solve_ahead(): each speed's state, or the failure met there
+    struct Ahead
+    {
+      StaticState        state;
+      std::exception_ptr failure;
+    };
+    std::vector<Ahead>                                   ahead;
+    std::shared_ptr<const ContactSolver::Decomposition> last_law;
     dealii::DynamicSparsityPattern sparsity;
 
     dealii::PETScWrappers::MPI::SparseMatrix stiffness;

@@ -6,6 +6,7 @@
 
 #include <deal.II/lac/petsc_vector.h>
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -76,14 +77,14 @@ namespace rotorfit
     const ContactSolver::Decomposition &
     decomposition() const
     {
-      return solver->decomposition();
+      return *law;
     }
 
     /// Displacement at this speed, ghosted (all DoFs).
     void
     displacement(dealii::PETScWrappers::MPI::Vector &u) const
     {
-      solver->displacement(w(), u);
+      solver->displacement(*law, w(), u);
     }
 
     /// Penalty of pair @p i [N/m] and the scale it was made with.
@@ -99,7 +100,8 @@ namespace rotorfit
     }
 
   private:
-    const ContactSolver *solver = nullptr;
+    const ContactSolver                                 *solver = nullptr;
+    std::shared_ptr<const ContactSolver::Decomposition> law;
     friend class StaticProblem;
   };
 } // namespace rotorfit
