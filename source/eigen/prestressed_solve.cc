@@ -410,6 +410,9 @@ namespace rotorfit
         summary.add("eigen.estimate_gram_worst_difference", gram_worst_difference, 12);
       }
     summary.add("eigen.workspace_retries", eigensolver.linear_solver().n_workspace_retries());
+    summary.add("eigen.factorizations", eigensolver.linear_solver().n_factorizations());
+    summary.add("eigen.factorizations_on_earlier_analysis",
+                eigensolver.linear_solver().n_reused_analyses());
     log << "Eigenproblem: " << speeds_done << " speeds (" << full_solves << " full, "
         << reduced_solves << " on the reduced model, " << reduced_refusals
         << " refused by it; " << undamped_served << " on undamped anchors, "

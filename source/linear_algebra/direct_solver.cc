@@ -43,7 +43,8 @@ namespace rotorfit
   {
     if (ksp != nullptr)
       KSPDestroy(&ksp);
-    ksp = nullptr;
+    ksp             = nullptr;
+    analysed_matrix = nullptr;
   }
 
   void
@@ -86,6 +87,26 @@ namespace rotorfit
     // operator: the eigenproblem's S, then Q(sigma))
     check(MatSetOption(A, MAT_SYMMETRIC, type == Type::mumps_cholesky ? PETSC_TRUE : PETSC_FALSE),
           "MatSetOption");
+    PetscObjectState pattern = 0;
+    check(MatGetNonzeroState(A, &pattern), "MatGetNonzeroState");
+    if (ksp != nullptr && A == analysed_matrix && type == analysed_type &&
+        pattern == analysed_pattern)
+      {
+        // new values on the same pattern: PETSc's PCSetUp sees the same
+        // nonzero state and runs MUMPS's numeric phase alone. A failure
+        // (delayed pivots beyond the analysis's workspace) starts afresh.
+        check(KSPSetOperators(ksp, A, A), "KSPSetOperators");
+        check(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr), "PetscPushErrorHandler");
+        const PetscErrorCode code = KSPSetUp(ksp);
+        PetscPopErrorHandler();
+        if (code == 0)
+          {
+            ++factorizations;
+            ++reused_analyses;
+            return;
+          }
+        ++workspace_retries;
+      }
     // MUMPS sizes its workspace from the analysis plus ICNTL(14) percent;
     // delayed pivots of LDL^T can exceed it (INFOG(1) = -8, -9: seen on TS
     // with 2 ranks). Such a failure is retried with more room, any other
@@ -126,6 +147,9 @@ namespace rotorfit
                                "). If INFOG(1) = -10 the matrix is singular: is every "
                                "body held? If it is -13, memory ran out.");
     ++factorizations;
+    analysed_matrix  = A;
+    analysed_type    = type;
+    analysed_pattern = pattern;
   }
 
   void
