@@ -1,7 +1,5 @@
-#include <rotorfit/base/format.h>
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/base/resources.h>
-#include <rotorfit/base/run_control.h>
 #include <rotorfit/material/elasticity.h>
 #include <rotorfit/statics/speed_schedule.h>
 #include <rotorfit/statics/static_problem.h>
@@ -236,7 +234,8 @@ namespace rotorfit
     unsigned int       serial  = 0;
     for (unsigned int k = 0; k < rpm.size(); ++k)
       {
-        run_control::stop_if_interrupted(comm, "before " + format_number(rpm[k]) + " r/min");
+        // (no interruption point here: a stop is taken before the first
+        // speed's output, where the run's loop checks)
         Ahead a;
         try
           {
