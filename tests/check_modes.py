@@ -776,6 +776,42 @@ def summary_number(out, key):
     return float(m.group(1)) if m else None
 
 
+def check_sweep_speeds(exe, prm, out, speeds_, freq_tol, zeta_tol, *sets):
+    """Consistency of two code paths, not a reference value: the sweep of
+    PRM (its static path followed through every speed before the eigen
+    solves, each speed on its own segment's law) and runs of one speed each
+    (SPEEDS_, comma-separated) give the same Campbell rows there (each
+    frequency within FREQ_TOL relative, damping ratios above 1e-4 within
+    ZETA_TOL relative). A speed handed another speed's static state fails."""
+    sweep = os.path.join(out, "sweep")
+    run_test.run(exe, prepare(prm, sweep, list(sets)))
+    t_sweep = rows(sweep)
+    ok = True
+    for rpm in [float(x) for x in speeds_.split(",")]:
+        alone = os.path.join(out, f"alone_{rpm:g}")
+        run_test.run(exe, prepare(prm, alone, list(sets) + [f"Speeds/Start={rpm:g}",
+                                                            f"Speeds/End={rpm:g}"]))
+        x = {r["mode"]: r for r in at(t_sweep, rpm)}
+        y = {r["mode"]: r for r in at(rows(alone), rpm)}
+        ok = ok and len(x) == len(y) > 0
+        worst_f = worst_z = 0
+        for m in y:
+            if m not in x:
+                ok = False
+                continue
+            fa, fb = float(x[m]["frequency_hz"]), float(y[m]["frequency_hz"])
+            worst_f = max(worst_f, abs(fa - fb) / abs(fb))
+            za, zb = float(x[m]["damping_ratio"]), float(y[m]["damping_ratio"])
+            if abs(zb) > 1e-4:
+                worst_z = max(worst_z, abs(za - zb) / abs(zb))
+        good = worst_f <= float(freq_tol) and worst_z <= float(zeta_tol)
+        print(f"{rpm:g} r/min: {len(y)} modes, frequency difference {worst_f:.2e} "
+              f"(tolerance {freq_tol}), damping ratio {worst_z:.2e} (tolerance {zeta_tol}) "
+              f"{'ok' if good else 'FAILED'}")
+        ok = ok and good
+    return 0 if ok else 1
+
+
 def check_reduced(exe, prm, out, freq_tol, zeta_tol, *sets):
     """Consistency of two code paths: the sweep on the reduced model
     (Eigenproblem/Reduced model = true, its own error checks) against the
@@ -968,7 +1004,8 @@ if __name__ == "__main__":
               "torsion_crossing": check_torsion_crossing,
               "ring_symmetry": check_ring_symmetry, "study": check_study,
               "refinement": check_refinement, "locking": check_locking, "asymmetry": check_asymmetry, "mpi": check_mpi, "failure": check_failure,
-              "reduced": check_reduced, "reduced_fallback": check_reduced_fallback}
+              "reduced": check_reduced, "reduced_fallback": check_reduced_fallback,
+              "sweep_speeds": check_sweep_speeds}
     if mode not in checks:
         sys.exit(f"unknown mode {mode}")
     status = checks[mode](*args)
