@@ -776,6 +776,20 @@ def summary_number(out, key):
     return float(m.group(1)) if m else None
 
 
+def worst_differences(a, b, keys):
+    """Largest relative differences over KEYS between the campbell.csv rows
+    A and B (dicts of rows): frequency, and damping ratio where B's is above
+    1e-4 in magnitude."""
+    worst_f = worst_z = 0.0
+    for k in keys:
+        fa, fb = float(a[k]["frequency_hz"]), float(b[k]["frequency_hz"])
+        za, zb = float(a[k]["damping_ratio"]), float(b[k]["damping_ratio"])
+        worst_f = max(worst_f, abs(fa - fb) / abs(fb))
+        if abs(zb) > 1e-4:
+            worst_z = max(worst_z, abs(za - zb) / abs(zb))
+    return worst_f, worst_z
+
+
 def check_sweep_speeds(exe, prm, out, speeds_, freq_tol, zeta_tol, *sets):
     """Consistency of two code paths, not a reference value: the sweep of
     PRM (its static path followed through every speed before the eigen
@@ -793,17 +807,8 @@ def check_sweep_speeds(exe, prm, out, speeds_, freq_tol, zeta_tol, *sets):
                                                             f"Speeds/End={rpm:g}"]))
         x = {r["mode"]: r for r in at(t_sweep, rpm)}
         y = {r["mode"]: r for r in at(rows(alone), rpm)}
-        ok = ok and len(x) == len(y) > 0
-        worst_f = worst_z = 0
-        for m in y:
-            if m not in x:
-                ok = False
-                continue
-            fa, fb = float(x[m]["frequency_hz"]), float(y[m]["frequency_hz"])
-            worst_f = max(worst_f, abs(fa - fb) / abs(fb))
-            za, zb = float(x[m]["damping_ratio"]), float(y[m]["damping_ratio"])
-            if abs(zb) > 1e-4:
-                worst_z = max(worst_z, abs(za - zb) / abs(zb))
+        ok = ok and len(y) > 0 and x.keys() == y.keys()
+        worst_f, worst_z = worst_differences(x, y, x.keys() & y.keys())
         good = worst_f <= float(freq_tol) and worst_z <= float(zeta_tol)
         print(f"{rpm:g} r/min: {len(y)} modes, frequency difference {worst_f:.2e} "
               f"(tolerance {freq_tol}), damping ratio {worst_z:.2e} (tolerance {zeta_tol}) "
@@ -860,14 +865,9 @@ def check_reduced(exe, prm, out, freq_tol, zeta_tol, *sets):
     good = a.keys() == b.keys()
     print(f"campbell.csv rows: {len(a)} reduced, {len(b)} full", "ok" if good else "FAILED")
     ok &= good
-    worst_f, worst_z, labels = 0.0, 0.0, 0
-    for k in sorted(a.keys() & b.keys()):
-        fa, fb = float(a[k]["frequency_hz"]), float(b[k]["frequency_hz"])
-        za, zb = float(a[k]["damping_ratio"]), float(b[k]["damping_ratio"])
-        worst_f = max(worst_f, abs(fa - fb) / abs(fb))
-        if abs(zb) > 1e-4:
-            worst_z = max(worst_z, abs(za - zb) / abs(zb))
-        labels += (a[k]["whirl"], a[k]["tracked_id"]) != (b[k]["whirl"], b[k]["tracked_id"])
+    worst_f, worst_z = worst_differences(a, b, a.keys() & b.keys())
+    labels = sum((a[k]["whirl"], a[k]["tracked_id"]) != (b[k]["whirl"], b[k]["tracked_id"])
+                 for k in a.keys() & b.keys())
     for name, got, tol in (("frequency", worst_f, freq_tol), ("damping ratio", worst_z, zeta_tol)):
         print(f"largest relative {name} difference {got:.3e} (tolerance {tol:g})",
               "ok" if got <= tol else "FAILED")

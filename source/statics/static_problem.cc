@@ -231,7 +231,6 @@ namespace rotorfit
     const double       limit   = 0.5 * resources::factorization_bytes(n_dofs, true);
     const double       per_law = 2. * 8. * n_dofs; // u_I, u_C
     double             kept    = 0;
-    unsigned int       serial  = 0;
     for (unsigned int k = 0; k < rpm.size(); ++k)
       {
         // (no interruption point here: a stop is taken before the first
@@ -248,11 +247,8 @@ namespace rotorfit
             ahead.push_back(std::move(a));
             return; // the path cannot go on: the factorisation stays
           }
-        if (a.state.decomposition().serial != serial)
-          {
-            serial = a.state.decomposition().serial;
-            kept += per_law;
-          }
+        if (ahead.empty() || ahead.back().state.law != a.state.law)
+          kept += per_law; // a new segment's law
         ahead.push_back(std::move(a));
         if (kept > limit)
           return; // the later speeds follow the path as they come
