@@ -1,5 +1,6 @@
 #include <rotorfit/base/patterns.h>
 #include <rotorfit/contact/contact_solver.h>
+#include <rotorfit/linear_algebra/matrix_pattern.h>
 
 #include <deal.II/base/mpi.h>
 
@@ -141,7 +142,6 @@ namespace rotorfit
   {
     const ContactPairs                     &pairs_       = system.pairs;
     const AffineConstraints<double>        &constraints_ = system.constraints;
-    const DynamicSparsityPattern           &sparsity     = system.sparsity;
     const PETScWrappers::MPI::SparseMatrix &stiffness    = system.stiffness;
     const PETScWrappers::MPI::Vector       &unit_load    = system.unit_centrifugal_load;
     const PETScWrappers::MPI::SparseMatrix *m_perp       = system.spin_softening_matrix;
@@ -201,7 +201,7 @@ namespace rotorfit
     first_owned = owned.n_elements() > 0 ? owned.nth_index_in_set(0) : 0;
     end_owned   = first_owned + owned.n_elements();
 
-    system_matrix.reinit(owned, owned, sparsity, comm);
+    reinit_with_pattern_of(system_matrix, stiffness);
     current = Decomposition();
     current.active.assign(list.size(), true); // at rest every pair is closed
     base_valid = false;

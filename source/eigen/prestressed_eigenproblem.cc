@@ -157,7 +157,8 @@ namespace rotorfit
 
     // one pattern for every matrix: cells, all pairs in all directions (any
     // contact model), bearing blocks; no static supports (doc/theory.md P7)
-    sparsity.reinit(dof_handler.n_dofs(), dof_handler.n_dofs(), model.locally_owned_dofs());
+    DynamicSparsityPattern sparsity(dof_handler.n_dofs(), dof_handler.n_dofs(),
+                                    model.locally_owned_dofs());
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
         cell->get_dof_indices(dofs);
@@ -183,6 +184,11 @@ namespace rotorfit
       DynamicSparsityPattern stations(dof_handler.n_dofs(), dof_handler.n_dofs(),
                                       model.locally_owned_dofs());
       bearings.add_sparsity(stations);
+      // and the diagonal: deal.II walks an empty row of a
+      // DynamicSparsityPattern by searching ahead for the next entry, which
+      // made this quadratic in the DOFs (4 s on TS's benchmark mesh)
+      for (const auto i : model.locally_owned_dofs())
+        stations.add(i, i);
       for (auto *m : {&bearing_k, &bearing_c})
         m->reinit(model.locally_owned_dofs(), model.locally_owned_dofs(), stations, comm);
     }

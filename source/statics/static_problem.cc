@@ -1,5 +1,6 @@
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/base/resources.h>
+#include <rotorfit/linear_algebra/matrix_pattern.h>
 #include <rotorfit/material/elasticity.h>
 #include <rotorfit/statics/speed_schedule.h>
 #include <rotorfit/statics/static_problem.h>
@@ -65,7 +66,6 @@ namespace rotorfit
     last_law.reset();
     contact.initialize({model.pairs(),
                         model.static_constraints(),
-                        sparsity,
                         stiffness,
                         unit_centrifugal_load,
                         spin_softening ? &spin_softening_matrix : nullptr,
@@ -87,7 +87,8 @@ namespace rotorfit
     const auto &dof_handler = model.dofs();
     const auto &owned       = model.locally_owned_dofs();
     const auto &constraints = model.static_constraints();
-    sparsity.reinit(dof_handler.n_dofs(), dof_handler.n_dofs(), owned);
+    // (the matrices keep the pattern: K is made from it, the others copy K's)
+    DynamicSparsityPattern sparsity(dof_handler.n_dofs(), dof_handler.n_dofs(), owned);
     std::vector<types::global_dof_index> dofs(dof_handler.get_fe().n_dofs_per_cell());
     // all cells, not only the owned ones: an owned row may couple to DoFs
     // of cells on other ranks
@@ -104,7 +105,7 @@ namespace rotorfit
       }
     stiffness.reinit(owned, owned, sparsity, comm);
     if (spin_softening)
-      spin_softening_matrix.reinit(owned, owned, sparsity, comm);
+      reinit_with_pattern_of(spin_softening_matrix, stiffness);
     unit_centrifugal_load.reinit(owned, comm);
     stiffness_diagonal.reinit(dof_handler.n_dofs());
   }
@@ -257,7 +258,6 @@ namespace rotorfit
     // nothing static is solved any more (assemble() makes them anew)
     stiffness.clear();
     spin_softening_matrix.clear();
-    sparsity = DynamicSparsityPattern();
   }
 
   void

@@ -127,8 +127,8 @@ namespace rotorfit
     {
       const ContactPairs                             &pairs;
       const dealii::AffineConstraints<double>        &constraints; ///< the static supports
-      const dealii::DynamicSparsityPattern           &sparsity; ///< of K with the pair couplings
-      const dealii::PETScWrappers::MPI::SparseMatrix &stiffness; ///< K with the supports
+      /// K with the supports, its pattern with the pair couplings
+      const dealii::PETScWrappers::MPI::SparseMatrix &stiffness;
       const dealii::PETScWrappers::MPI::Vector &unit_centrifugal_load; ///< F_c per unit Omega^2
       /// M_perp, or nullptr without spin softening
       const dealii::PETScWrappers::MPI::SparseMatrix *spin_softening_matrix;

@@ -352,7 +352,6 @@ namespace rotorfit
     unsigned int undamped_served = 0, undamped_refused = 0;
     double       reduced_worst = 0; ///< largest error estimate of a reduced solve
     double       reduced_worst_products = 0; ///< largest product mismatch of a reduced solve
-    dealii::DynamicSparsityPattern sparsity;
     RotorMatrices                  matrices;
 
     dealii::PETScWrappers::MPI::SparseMatrix bearing_k, bearing_c, k_sigma_I, k_sigma_C,

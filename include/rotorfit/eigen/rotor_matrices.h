@@ -27,7 +27,8 @@ namespace rotorfit
   class RotorMatrices
   {
   public:
-    /// All matrices share @p sparsity (kept referenced; pattern-wise sums).
+    /// All matrices get the pattern of @p sparsity (pattern-wise sums; M is
+    /// made from it, the others copy M's index arrays).
     void
     reinit(const dealii::IndexSet               &owned,
            const dealii::DynamicSparsityPattern &sparsity,
@@ -66,7 +67,6 @@ namespace rotorfit
 
   private:
     dealii::IndexSet                owned;
-    const dealii::DynamicSparsityPattern *pattern = nullptr;
     MPI_Comm                        comm;
   };
 } // namespace rotorfit

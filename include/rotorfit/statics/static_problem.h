@@ -125,7 +125,6 @@ namespace rotorfit
     };
     std::vector<Ahead>                                   ahead;
     std::shared_ptr<const ContactSolver::Decomposition> last_law;
-    dealii::DynamicSparsityPattern sparsity;
 
     dealii::PETScWrappers::MPI::SparseMatrix stiffness;
     dealii::PETScWrappers::MPI::SparseMatrix spin_softening_matrix;
