@@ -2,9 +2,44 @@
 
 #include <deal.II/base/mpi.h>
 
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+#include <unistd.h>
+
+namespace
+{
+  /// Large blocks in transparent huge pages: glibc asks for them
+  /// (madvise) only under the tunable glibc.malloc.hugetlb=1, which it reads
+  /// at start-up, so the process starts itself once more with it. The
+  /// factorisations, matrices and bases are fresh allocations of tens to
+  /// hundreds of MB; with 4 kB pages their first touch cost 7 % of a run at
+  /// rest on TS's benchmark mesh (benchmarks/README.md). Harmless where the
+  /// kernel gives no huge pages; ROTORFIT_HUGE_PAGES=0 keeps the default.
+  void
+  restart_with_huge_pages(char **argv)
+  {
+    const char *tunables = std::getenv("GLIBC_TUNABLES");
+    const char *choice   = std::getenv("ROTORFIT_HUGE_PAGES");
+    // (once: a loader that drops the tunable, as for set-uid programs,
+    // must not make this a loop)
+    if ((choice && std::strcmp(choice, "0") == 0) || std::getenv("ROTORFIT_RESTARTED") ||
+        (tunables && std::strstr(tunables, "glibc.malloc.hugetlb")))
+      return;
+    setenv("ROTORFIT_RESTARTED", "1", 1);
+    const std::string value =
+      (tunables && *tunables ? std::string(tunables) + ":" : std::string()) +
+      "glibc.malloc.hugetlb=1";
+    if (setenv("GLIBC_TUNABLES", value.c_str(), 1) == 0)
+      execv("/proc/self/exe", argv); // returns only on failure: run as we are
+  }
+} // namespace
+
 int
 main(int argc, char **argv)
 {
+  restart_with_huge_pages(argv);
   // one thread per rank: the machine has two cores, MPI uses them
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   return rotorfit::run_application(argc, argv);
