@@ -2,6 +2,7 @@
 
 #include <deal.II/base/mpi.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
@@ -16,12 +17,21 @@ namespace
   /// factorisations, matrices and bases are fresh allocations of tens to
   /// hundreds of MB; with 4 kB pages their first touch cost 7 % of a run at
   /// rest on TS's benchmark mesh (benchmarks/README.md). Harmless where the
-  /// kernel gives no huge pages; ROTORFIT_HUGE_PAGES=0 keeps the default.
+  /// kernel gives no huge pages; ROTORFIT_HUGE_PAGES=0 keeps the default
+  /// (any value but 0 or 1 is warned about and taken as 0).
   void
   restart_with_huge_pages(char **argv)
   {
     const char *tunables = std::getenv("GLIBC_TUNABLES");
     const char *choice   = std::getenv("ROTORFIT_HUGE_PAGES");
+    if (choice && std::strcmp(choice, "0") != 0 && std::strcmp(choice, "1") != 0)
+      {
+        std::fprintf(stderr,
+                     "Warning: ROTORFIT_HUGE_PAGES = '%s' is neither 0 nor 1; running without "
+                     "huge pages.\n",
+                     choice);
+        return;
+      }
     // (once: a loader that drops the tunable, as for set-uid programs,
     // must not make this a loop)
     if ((choice && std::strcmp(choice, "0") == 0) || std::getenv("ROTORFIT_RESTARTED") ||

@@ -14,12 +14,10 @@ namespace rotorfit
   using namespace dealii;
 
   void
-  RotorMatrices::reinit(const IndexSet               &owned_,
+  RotorMatrices::reinit(const IndexSet               &owned,
                         const DynamicSparsityPattern &sparsity,
-                        const MPI_Comm                comm_)
+                        const MPI_Comm                comm)
   {
-    owned = owned_;
-    comm = comm_;
     mass.reinit(owned, owned, sparsity, comm);
     for (auto *m : {&stiffness, &gyroscopic, &convective})
       reinit_like(*m);

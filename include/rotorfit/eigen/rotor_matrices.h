@@ -64,9 +64,5 @@ namespace rotorfit
     reinit_like(dealii::PETScWrappers::MPI::SparseMatrix &m) const;
 
     dealii::PETScWrappers::MPI::SparseMatrix mass, stiffness, gyroscopic, convective;
-
-  private:
-    dealii::IndexSet                owned;
-    MPI_Comm                        comm;
   };
 } // namespace rotorfit
