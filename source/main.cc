@@ -1,4 +1,5 @@
 #include <rotorfit/app/application.h>
+#include <rotorfit/base/resources.h>
 
 #include <deal.II/base/mpi.h>
 
@@ -49,6 +50,7 @@ namespace
 int
 main(int argc, char **argv)
 {
+  rotorfit::resources::map_large_blocks();
   restart_with_huge_pages(argv);
   // one thread per rank: the machine has two cores, MPI uses them
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);

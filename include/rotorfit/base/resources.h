@@ -1,5 +1,6 @@
 #pragma once
 
+#include <malloc.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -53,6 +54,26 @@ namespace rotorfit
         }
       return static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
              static_cast<double>(::sysconf(_SC_PAGE_SIZE));
+    }
+
+    /// Blocks from this size [bytes] are mapped alone (map_large_blocks()).
+    constexpr std::size_t mapped_block_bytes = 32u << 20;
+
+    /// Large blocks mapped and unmapped alone again. Debian 12's
+    /// libsuperlu_dist (loaded with PETSc; HYPRE too) calls
+    /// mallopt(M_MMAP_MAX, 0) in a constructor: every block, a 0.9 GB
+    /// factor too, then lives in the brk heap, whose holes glibc cannot give
+    /// back, and a freed factor left a hole the next one did not fit (a TS
+    /// band run's resident peak stood 0.8 GB above its heap's). The
+    /// threshold is fixed because any mallopt stops glibc's sliding one; 32 MB
+    /// is that one's ceiling. Smaller blocks, the vectors made at every
+    /// speed, stay in the heap: a 128 kB threshold mapped each anew and made
+    /// TS 50 % slower (benchmarks/README.md).
+    inline void
+    map_large_blocks()
+    {
+      mallopt(M_MMAP_MAX, 65536); // glibc's default
+      mallopt(M_MMAP_THRESHOLD, static_cast<int>(mapped_block_bytes));
     }
 
     /// This process's resident memory [bytes], now or at its peak (Linux
