@@ -1,5 +1,6 @@
 #include <rotorfit/output/tables.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <iomanip>
@@ -172,12 +173,19 @@ namespace rotorfit
     const auto lag = [](const std::complex<double> z) {
       return z == 0. ? 0. : -std::arg(z) * 180 / M_PI;
     };
+    // an orbit a millionth of the speed's largest is below what the solve
+    // resolves (its residual is about 1e-8 of the whole): no whirl to name
+    // (a loose sleeve's unbalance leaves the shaft's probes at 1e-24 m)
+    double largest = 0;
+    for (const auto &p : r.probes)
+      largest = std::max(largest, p.forward() + p.backward());
     for (const auto &p : r.probes)
       {
         const double f = p.forward(), b = p.backward();
         file << r.rpm << ',' << p.probe << ',' << r.fit_state << ',' << std::abs(p.x) << ','
              << lag(p.x) << ',' << std::abs(p.y) << ',' << lag(p.y) << ',' << f + b << ','
-             << std::abs(f - b) << ',' << (f >= b ? "forward" : "backward") << ','
+             << std::abs(f - b) << ','
+             << (!(f + b > 1e-6 * largest) ? "none" : f >= b ? "forward" : "backward") << ','
              << r.residual << ',' << r.basis_size << ',' << (r.converged ? 1 : 0) << '\n';
       }
     file << std::flush;
