@@ -416,21 +416,31 @@ namespace rotorfit
   void
   DampedEigensolver::factorize(const PETScWrappers::MPI::SparseMatrix &M,
                                const PETScWrappers::MPI::SparseMatrix &C,
-                               const PETScWrappers::MPI::SparseMatrix &K,
-                               PETScWrappers::MPI::SparseMatrix       &Q)
+                               PETScWrappers::MPI::SparseMatrix       &K)
   {
     // Q(sigma) = K + sigma C + sigma^2 M: one pattern for all of them
-    MatCopy(K, Q, SAME_NONZERO_PATTERN);
-    MatAXPY(Q, sigma, C, SAME_NONZERO_PATTERN);
-    MatAXPY(Q, sigma * sigma, M, SAME_NONZERO_PATTERN);
+    MatAXPY(K, sigma, C, SAME_NONZERO_PATTERN);
+    MatAXPY(K, sigma * sigma, M, SAME_NONZERO_PATTERN);
     solver.set_type(DirectSolver::Type::mumps_lu); // G makes Q unsymmetric
-    solver.factorize(Q);
+    const auto restore = [&]() {
+      MatAXPY(K, -sigma * sigma, M, SAME_NONZERO_PATTERN);
+      MatAXPY(K, -sigma, C, SAME_NONZERO_PATTERN);
+    };
+    try
+      {
+        solver.factorize(K);
+      }
+    catch (...)
+      {
+        restore();
+        throw;
+      }
+    restore();
   }
 
   std::vector<DampedEigensolver::UndampedMode>
   DampedEigensolver::solve_undamped(const PETScWrappers::MPI::SparseMatrix &M,
-                                    const PETScWrappers::MPI::SparseMatrix &K,
-                                    PETScWrappers::MPI::SparseMatrix       &S,
+                                    PETScWrappers::MPI::SparseMatrix       &K,
                                     const unsigned int                      n_modes,
                                     Statistics                             &stats)
   {
@@ -442,10 +452,19 @@ namespace rotorfit
     auto t0 = clock::now();
     // S = K + sigma^2 M: symmetric (LDL^T, about half the LU's time and
     // memory) and regular with free bodies for the same reason as Q(sigma)
-    MatCopy(K, S, SAME_NONZERO_PATTERN);
-    MatAXPY(S, sigma * sigma, M, SAME_NONZERO_PATTERN);
+    // (formed in K's storage, as in factorize())
+    MatAXPY(K, sigma * sigma, M, SAME_NONZERO_PATTERN);
     solver.set_type(DirectSolver::Type::mumps_cholesky);
-    solver.factorize(S);
+    try
+      {
+        solver.factorize(K);
+      }
+    catch (...)
+      {
+        MatAXPY(K, -sigma * sigma, M, SAME_NONZERO_PATTERN);
+        throw;
+      }
+    MatAXPY(K, -sigma * sigma, M, SAME_NONZERO_PATTERN);
     stats                       = Statistics();
     stats.factorization_seconds = seconds(t0);
     t0                          = clock::now();
@@ -532,8 +551,7 @@ namespace rotorfit
   std::vector<EigenPair>
   DampedEigensolver::solve(const PETScWrappers::MPI::SparseMatrix &M,
                            const PETScWrappers::MPI::SparseMatrix &C,
-                           const PETScWrappers::MPI::SparseMatrix &K,
-                           PETScWrappers::MPI::SparseMatrix       &Q,
+                           PETScWrappers::MPI::SparseMatrix       &K,
                            const unsigned int                      nev,
                            Statistics                             &stats,
                            const unsigned int                      attempt)
@@ -545,7 +563,7 @@ namespace rotorfit
     };
     auto t0 = clock::now();
     if (attempt == 0)
-      factorize(M, C, K, Q);
+      factorize(M, C, K);
     const double t_factor = seconds(t0);
     t0                    = clock::now();
 

@@ -104,6 +104,7 @@ namespace rotorfit
     eigensolver.parse_parameters(prm);
     reduced.parse_parameters(prm);
     prm.enter_subsection("Eigenproblem");
+    static_spin_softening = spin_softening;
     compute  = prm.get_bool("Compute modes");
     n_wanted = prm.get_integer("Number of modes");
     const std::string model_name = prm.get("Contact model");
@@ -175,7 +176,7 @@ namespace rotorfit
       }
     bearings.add_sparsity(sparsity);
     matrices.reinit(model.locally_owned_dofs(), sparsity, comm);
-    for (auto *m : {&tangent, &damping, &shifted})
+    for (auto *m : {&tangent, &damping})
       matrices.reinit_like(*m);
     // the bearing matrices on their stations' blocks alone (a subset of the
     // pattern above): not two more copies of the full pattern, and their
@@ -244,6 +245,25 @@ namespace rotorfit
       return;
     TimerOutput::Scope t(timer, "eigen: assembly (M, K, G, K_theta)");
     matrices.assemble(model.dofs(), model.mesh().mapping(), model.mesh().cell_quadrature(), model.bodies());
+    // K_theta enters only as K_t2 = K_sigma(u_C) - K_theta where every
+    // state is affine: it is assembled into K_sigma(u_C) with it, and its
+    // own matrix (58 MB on TS's benchmark mesh) is freed after the
+    // self-check has taken what it needs of it
+    convective_folded =
+      stiffening == StressStiffening::full && convective_term && !static_spin_softening;
+    if (self_check)
+      {
+        const auto fields = check_fields();
+        const auto energy = [&](const Vector<double> &v) {
+          Vector<double> Av;
+          replicated_vmult(matrices.convective, v, Av);
+          return v * Av;
+        };
+        check_theta_tilt  = energy(fields[0]);
+        check_theta_twist = energy(fields[1]);
+      }
+    if (convective_folded)
+      matrices.convective.clear();
   }
 
   unsigned int
@@ -311,11 +331,19 @@ namespace rotorfit
         bearings.assemble(state.rpm, bearing_k, bearing_c);
       }
 
-    // K_t = K + K_b + K_c (+ K_sigma (- Omega^2 K_theta))
+    // K_t = (K + K_sigma(u_I)) + K_b + K_c (+ w K_sigma(u_C) - w K_theta)
+    if (stiffening != StressStiffening::off)
+      update_stiffness(state);
     MatCopy(matrices.stiffness, tangent, SAME_NONZERO_PATTERN);
     MatAXPY(tangent, 1., bearing_k, SUBSET_NONZERO_PATTERN);
-    if (stiffening != StressStiffening::off)
-      add_stress_stiffness(state);
+    if (stiffening == StressStiffening::full)
+      {
+        const double w = state.w();
+        if (state.decomposition().affine)
+          MatAXPY(tangent, w, k_sigma_C, SAME_NONZERO_PATTERN);
+        if (convective_term && !convective_folded) // (folded: in k_sigma_C)
+          MatAXPY(tangent, -w, matrices.convective, SAME_NONZERO_PATTERN);
+      }
     add_contact_ties(state, tied);
     tangent.compress(VectorOperation::add);
 
@@ -326,41 +354,53 @@ namespace rotorfit
   }
 
   void
-  PrestressedEigenproblem::add_stress_stiffness(const StaticState &state)
+  PrestressedEigenproblem::update_stiffness(const StaticState &state)
   {
-    const double w             = state.w();
-    const auto  &decomposition = state.decomposition();
-    const auto  &dofs          = model.dofs();
-    const auto  &mesh          = model.mesh();
-    const auto  &bodies        = model.bodies();
-    const IndexSet all         = complete_index_set(dofs.n_dofs());
-    PETScWrappers::MPI::Vector u(model.locally_owned_dofs(), all, comm);
+    // matrices.stiffness holds K + K_sigma(u_s), u_s = stiffened_by (the
+    // active set's u_I; with spin softening the whole u of the speed).
+    // K_sigma is linear in u: a new static state adds K_sigma(u - u_s),
+    // assembled in the tangent's storage (made afresh right after), so
+    // K_sigma(u_I) needs no matrix of its own (58 MB on TS's benchmark mesh).
+    // The sum collects the rounding of one addition per contact segment.
+    const auto &decomposition = state.decomposition();
+    if (decomposition.affine && decomposition.serial == k_sigma_serial)
+      return;
+    const auto    &dofs   = model.dofs();
+    const IndexSet all    = complete_index_set(dofs.n_dofs());
+    const auto    &owned  = model.locally_owned_dofs();
+    PETScWrappers::MPI::Vector u(owned, all, comm), before(owned, all, comm);
+    {
+      PETScWrappers::MPI::Vector b(owned, comm);
+      if (stiffened_by.size() > 0)
+        for (const auto i : owned)
+          b(i) = stiffened_by[i];
+      b.compress(VectorOperation::insert);
+      before = b;
+    }
+    const auto &mesh = model.mesh();
     if (decomposition.affine)
       {
         // K_sigma is linear in u = u_I + w u_C: two parts per active set
-        if (decomposition.serial != k_sigma_serial)
-          {
-            PETScWrappers::MPI::Vector u_C(model.locally_owned_dofs(), all, comm);
-            u   = decomposition.u_I;
-            u_C = decomposition.u_C;
-            matrices.assemble_stress_stiffness(dofs, mesh.mapping(), mesh.cell_quadrature(), bodies,
-                                               {&u, &u_C}, {&k_sigma_I, &k_sigma_C});
-            k_sigma_serial = decomposition.serial;
-          }
-        MatAXPY(tangent, 1., k_sigma_I, SAME_NONZERO_PATTERN);
-        if (stiffening == StressStiffening::full)
-          MatAXPY(tangent, w, k_sigma_C, SAME_NONZERO_PATTERN);
+        PETScWrappers::MPI::Vector u_C(owned, all, comm);
+        u   = decomposition.u_I;
+        u_C = decomposition.u_C;
+        matrices.assemble_stress_stiffness(dofs, mesh.mapping(), mesh.cell_quadrature(),
+                                           model.bodies(), {&u, &u_C}, {&tangent, &k_sigma_C},
+                                           {&before, nullptr}, {false, convective_folded});
+        k_sigma_serial = decomposition.serial;
       }
     else
       {
         // the whole solution at this speed (the tangent is exact there)
         state.displacement(u);
-        matrices.assemble_stress_stiffness(dofs, mesh.mapping(), mesh.cell_quadrature(), bodies, u, k_sigma_I);
+        matrices.assemble_stress_stiffness(dofs, mesh.mapping(), mesh.cell_quadrature(),
+                                           model.bodies(), {&u}, {&tangent}, {&before});
         k_sigma_serial = 0;
-        MatAXPY(tangent, 1., k_sigma_I, SAME_NONZERO_PATTERN);
       }
-    if (stiffening == StressStiffening::full && convective_term)
-      MatAXPY(tangent, -w, matrices.convective, SAME_NONZERO_PATTERN);
+    MatAXPY(matrices.stiffness, 1., tangent, SAME_NONZERO_PATTERN);
+    stiffened_by.reinit(dofs.n_dofs());
+    for (types::global_dof_index i = 0; i < dofs.n_dofs(); ++i)
+      stiffened_by[i] = u[i];
   }
 
   void

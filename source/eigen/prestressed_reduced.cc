@@ -74,7 +74,7 @@ namespace rotorfit
     if (!eigensolver.linear_solver().factorized())
       {
         TimerOutput::Scope t(timer, "eigen: factorisation + ARPACK");
-        eigensolver.factorize(matrices.mass, damping, tangent, shifted);
+        eigensolver.factorize(matrices.mass, damping, tangent);
       }
     SpeedOperators op{matrices.mass, damping, tangent, eigensolver.linear_solver(), last_rpm};
     // the reduced model of this speed, for the response: only with the
@@ -161,7 +161,7 @@ namespace rotorfit
     if (stiffening_moves)
       {
         replicated_mmult(k_sigma_C, parts, k2);
-        if (convective_term)
+        if (convective_term && !convective_folded) // (folded: in k_sigma_C)
           {
             replicated_mmult(matrices.convective, parts, theta);
             for (std::size_t i = 0; i < parts.size(); ++i)
@@ -211,7 +211,7 @@ namespace rotorfit
     std::size_t                                  found = 0;
     {
       TimerOutput::Scope t(timer, "eigen: undamped anchor");
-      modes = eigensolver.solve_undamped(matrices.mass, tangent, shifted, n_modes, stats);
+      modes = eigensolver.solve_undamped(matrices.mass, tangent, n_modes, stats);
       // every mode below the first unconverged one was found
       while (found < modes.size() && modes[found].residual <= eigensolver.backward_error_limit())
         ++found;
@@ -305,7 +305,7 @@ namespace rotorfit
         if (stiffening == StressStiffening::full && state.decomposition().affine)
           {
             p_tangent2 = reduced.project(k_sigma_C, &av_tangent2);
-            if (convective_term)
+            if (convective_term && !convective_folded) // (folded: in k_sigma_C)
               {
                 std::vector<double> convective;
                 p_tangent2.add(-1., reduced.project(matrices.convective, &convective));
@@ -407,6 +407,7 @@ namespace rotorfit
         radius = std::max(radius, std::abs(p.lambda - sigma));
         pairs.push_back(std::move(p));
       }
+    std::vector<ComplexVector>().swap(x.k); // (the estimates' peak comes next)
 
     // a mode outside the basis (beyond the anchor's radius) moves at most
     // slope x |Omega - Omega_anchor| in the complex plane

@@ -137,6 +137,18 @@ namespace rotorfit
           std::abs(2. * p.lambda * dot(y.v[k], p.m_phi) + dot(y.v[k], *c_phi[k])) *
           std::abs(p.lambda);
       }
+    // the left residuals s = Q(lambda)^H y now, and the expanded left
+    // vectors freed: the Gram matrix's block solves below are the memory
+    // peak of a speed (4 vectors of length 2n a mode)
+    std::vector<ComplexVector> s(modes.size());
+    for (std::size_t k = 0; k < modes.size(); ++k)
+      {
+        const std::complex<double> l = std::conj(modes[k]->lambda);
+        s[k]                         = std::move(y.k[k]);
+        axpy(l * l, y.m[k], s[k]);
+        axpy(l, y.c[k], s[k]);
+      }
+    y = Expanded();
     const auto ratio = [&](const std::size_t k, const double norm_r, const double norm_s) {
       return denominator[k] > 0 ? norm_r * norm_s / denominator[k] :
                                   std::numeric_limits<double>::infinity();
@@ -187,16 +199,9 @@ namespace rotorfit
     else
       gram.spent += rhs_count;
 
-    std::vector<ComplexVector>          s(modes.size());
     std::vector<const Vector<double> *> rhs;
     for (std::size_t k = 0; k < modes.size(); ++k)
-      {
-        const std::complex<double> l = std::conj(modes[k]->lambda);
-        s[k]                         = y.k[k];
-        axpy(l * l, y.m[k], s[k]);
-        axpy(l, y.c[k], s[k]);
-        rhs.insert(rhs.end(), {&residual[k]->re, &residual[k]->im, &s[k].re, &s[k].im});
-      }
+      rhs.insert(rhs.end(), {&residual[k]->re, &residual[k]->im, &s[k].re, &s[k].im});
     std::vector<Vector<double>> t;
     replicated_solve(eigensolver.linear_solver(), matrices.mass, rhs, t);
     for (std::size_t k = 0; k < modes.size(); ++k)

@@ -122,7 +122,9 @@ namespace rotorfit
     const Quadrature<3>                                   &quadrature,
     const Bodies                                          &bodies,
     const std::vector<const PETScWrappers::MPI::Vector *> &u,
-    const std::vector<PETScWrappers::MPI::SparseMatrix *> &k_sigma) const
+    const std::vector<PETScWrappers::MPI::SparseMatrix *> &k_sigma,
+    const std::vector<const PETScWrappers::MPI::Vector *> &minus,
+    const std::vector<bool>                               &minus_convective) const
   {
     AssertThrow(u.size() == k_sigma.size(), ExcInternalError());
     // a matrix of this pattern is zeroed, not made again (TS: 0.57 of the
@@ -137,7 +139,7 @@ namespace rotorfit
     FEValues<3>            fe_values(mapping,
                           fe,
                           quadrature,
-                          update_gradients | update_JxW_values);
+                          update_gradients | update_JxW_values | update_quadrature_points);
     const FEValuesExtractors::Vector disp(0);
     const unsigned int               n = fe.n_dofs_per_cell();
     // K_sigma couples a component only with itself, through the same
@@ -157,8 +159,9 @@ namespace rotorfit
         scalar_dof[base[i]] = i;
     FullMatrix<double>                   cell_s(n, n), block(n_scalar, n_scalar);
     std::vector<types::global_dof_index> dofs(n);
-    std::vector<SymmetricTensor<2, 3>>   strain(quadrature.size());
+    std::vector<SymmetricTensor<2, 3>>   strain(quadrature.size()), strain_minus(quadrature.size());
     std::vector<Tensor<1, 3>>            grad(n_scalar);
+    std::vector<double>                  d_theta(n_scalar);
 
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
@@ -169,6 +172,12 @@ namespace rotorfit
           for (std::size_t k = 0; k < u.size(); ++k)
             {
               fe_values[disp].get_function_symmetric_gradients(*u[k], strain);
+              if (k < minus.size() && minus[k] != nullptr)
+                {
+                  fe_values[disp].get_function_symmetric_gradients(*minus[k], strain_minus);
+                  for (unsigned int q = 0; q < quadrature.size(); ++q)
+                    strain[q] -= strain_minus[q];
+                }
               block = 0;
               for (unsigned int q = 0; q < quadrature.size(); ++q)
                 {
@@ -184,6 +193,17 @@ namespace rotorfit
                       const Tensor<1, 3> s_grad = sigma * grad[a];
                       for (unsigned int b = 0; b < n_scalar; ++b)
                         block(a, b) += (s_grad * grad[b]) * JxW;
+                    }
+                  if (k < minus_convective.size() && minus_convective[k])
+                    {
+                      // - K_theta: rho (d_theta N_a)(d_theta N_b), d_theta = (e_z x x) . grad
+                      const Point<3>    &x = fe_values.quadrature_point(q);
+                      const Tensor<1, 3> t({-x[1], x[0], 0.});
+                      for (unsigned int a = 0; a < n_scalar; ++a)
+                        d_theta[a] = grad[a] * t;
+                      for (unsigned int a = 0; a < n_scalar; ++a)
+                        for (unsigned int b = 0; b < n_scalar; ++b)
+                          block(a, b) -= body.density * d_theta[a] * d_theta[b] * JxW;
                     }
                 }
               for (unsigned int i = 0; i < n; ++i)

@@ -177,7 +177,7 @@ namespace rotorfit
     };
     // blocks of right-hand sides (a block's back-substitution costs about a
     // sixth of as many single ones on TS), each multiplied by every block
-    constexpr int chunk = 64;
+    constexpr int chunk = 32;
     for (int start = 0; start < b; start += chunk)
       {
         const int c = std::min(chunk, b - start);

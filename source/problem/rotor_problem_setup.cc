@@ -159,7 +159,7 @@ namespace rotorfit
     const double statics = factorization_bytes(n, true) + 3 * sparse_matrix_bytes(n);
     double       modes   = 0;
     if (eigen.enabled())
-      modes = factorization_bytes(n, false) + 10 * sparse_matrix_bytes(n) +
+      modes = factorization_bytes(n, false) + 8 * sparse_matrix_bytes(n) +
               // the Arnoldi vectors are replicated on every rank
               Utilities::MPI::n_mpi_processes(comm) * eigen.state_vectors_needed(n) * 2 * n * 8.;
     const double peak = std::max(statics, modes);

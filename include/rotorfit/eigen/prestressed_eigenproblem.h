@@ -163,8 +163,14 @@ namespace rotorfit
     begin_speed(const StaticState &state, EigenSolution &solution, std::vector<bool> &loose_body);
     void
     assemble_tangent(const StaticState &state, const std::vector<bool> &tied);
+    /// matrices.stiffness = K + K_sigma(u_I) of @p state's static state,
+    /// and k_sigma_C = K_sigma(u_C) (doc/theory.md 7.8)
     void
-    add_stress_stiffness(const StaticState &state);
+    update_stiffness(const StaticState &state);
+    /// the self-check's fields on the support points: tilt e_x x x, twist
+    /// e_z x x, and y in the x component
+    std::vector<dealii::Vector<double>>
+    check_fields() const;
     void
     add_contact_ties(const StaticState &state, const std::vector<bool> &tied);
     std::vector<bool>
@@ -286,6 +292,14 @@ namespace rotorfit
     double           rigid_threshold_hz = 1;
     bool             self_check      = false;
     bool             convective_term = true;
+    /// K_theta lives in k_sigma_C (K_t2 = K_sigma(u_C) - K_theta in one
+    /// matrix) and matrices.convective is freed: every static state is
+    /// affine (no spin softening) and stress stiffening is full
+    bool             convective_folded = false;
+    bool             static_spin_softening = false;
+    /// the self-check's w^T K_theta w for the tilt and twist fields, made
+    /// before K_theta is folded away
+    double           check_theta_tilt = 0, check_theta_twist = 0;
     std::vector<std::pair<std::string, double>> checks;
 
     Bearings                       bearings;
@@ -354,8 +368,10 @@ namespace rotorfit
     double       reduced_worst_products = 0; ///< largest product mismatch of a reduced solve
     RotorMatrices                  matrices;
 
-    dealii::PETScWrappers::MPI::SparseMatrix bearing_k, bearing_c, k_sigma_I, k_sigma_C,
-      tangent, damping, shifted;
+    /// (the factorisations take the tangent's storage: no matrix of their own)
+    dealii::PETScWrappers::MPI::SparseMatrix bearing_k, bearing_c, k_sigma_C, tangent, damping;
+    /// the displacement whose K_sigma matrices.stiffness holds (empty: none)
+    dealii::Vector<double> stiffened_by;
     unsigned int k_sigma_serial = 0;
 
     std::vector<unsigned int> body_of_dof;

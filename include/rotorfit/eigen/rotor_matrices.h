@@ -50,14 +50,20 @@ namespace rotorfit
                               dealii::PETScWrappers::MPI::SparseMatrix &k_sigma) const;
 
     /// K_sigma of each displacement @p u[k] into @p k_sigma[k], in one pass
-    /// over the cells (an active set's two parts, u_I and u_C).
+    /// over the cells (an active set's two parts, u_I and u_C); with a
+    /// @p minus[k] (may be null) K_sigma(u[k] - minus[k]) (K_sigma is linear
+    /// in u: the change from one static state to the next); with
+    /// @p minus_convective[k] also - K_theta, as in assemble() (K_t2 of the
+    /// affine law in one matrix).
     void
     assemble_stress_stiffness(const dealii::DoFHandler<3>                                  &dof_handler,
                               const dealii::Mapping<3>                                     &mapping,
                               const dealii::Quadrature<3>                                  &quadrature,
                               const Bodies                                                 &bodies,
                               const std::vector<const dealii::PETScWrappers::MPI::Vector *> &u,
-                              const std::vector<dealii::PETScWrappers::MPI::SparseMatrix *> &k_sigma) const;
+                              const std::vector<dealii::PETScWrappers::MPI::SparseMatrix *> &k_sigma,
+                              const std::vector<const dealii::PETScWrappers::MPI::Vector *> &minus = {},
+                              const std::vector<bool> &minus_convective = {}) const;
 
     /// A zero matrix with the common pattern.
     void
