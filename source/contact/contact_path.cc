@@ -65,7 +65,9 @@ namespace rotorfit
     for (unsigned int j = 0; j < n; ++j)
       for (unsigned int i = 0; i < n; ++i)
         flexibility[std::size_t(i) * n + j] = column[j][i];
-    column.assign(n, {}); // the dense copy replaces the cache
+    // the dense copy replaces the cache (a new vector of empty columns:
+    // assigning {} to a column would keep its storage)
+    std::vector<std::vector<double>>(n).swap(column);
     n_cached = 0;
 
     PETScWrappers::MPI::Vector u(owned, comm), rhs(owned, comm);

@@ -365,6 +365,10 @@ namespace rotorfit
     solver.release();
     clear_update();
     system_matrix.clear();
+    // every speed's state is made: the pair-space matrices (n_pairs^2 each,
+    // 15 MB on TS's benchmark mesh) are not needed any more
+    for (auto *v : {&flexibility, &path_inverse, &t_C, &base_spring})
+      std::vector<double>().swap(*v);
     base_valid    = false;
     path_finished = true;
   }
@@ -372,7 +376,8 @@ namespace rotorfit
   void
   ContactSolver::clear_update()
   {
-    column.assign(column.size(), {});
+    // new empty columns: assigning {} would keep each column's storage
+    std::vector<std::vector<double>>(column.size()).swap(column);
     n_cached = 0;
     woodbury.clear();
   }

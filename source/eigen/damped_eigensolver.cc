@@ -1,6 +1,7 @@
 #include <rotorfit/base/patterns.h>
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/eigen/damped_eigensolver.h>
+#include <rotorfit/linear_algebra/matrix_pattern.h>
 
 #include <deal.II/base/mpi.h>
 
@@ -270,6 +271,23 @@ namespace rotorfit
   }
 
   double
+  BackwardError::from_residual(const std::complex<double> l,
+                               const ComplexVector       &phi,
+                               const ComplexVector       &r) const
+  {
+    return relative(l, phi, std::sqrt(r.re.norm_sqr() + r.im.norm_sqr()));
+  }
+
+  double
+  BackwardError::relative(const std::complex<double> l,
+                          const ComplexVector       &phi,
+                          const double               norm_r) const
+  {
+    const double scale = this->scale(l) * std::sqrt(phi.re.norm_sqr() + phi.im.norm_sqr());
+    return scale > 0 ? norm_r / scale : 0.;
+  }
+
+  double
   BackwardError::mismatch(const ComplexVector &phi,
                           const ComplexVector &Mp,
                           const ComplexVector &Cp,
@@ -315,8 +333,7 @@ namespace rotorfit
         re[i] = r.real();
         im[i] = r.imag();
       }
-    const double norm_phi = std::sqrt(phi.re.norm_sqr() + phi.im.norm_sqr());
-    const double norm_r   = std::sqrt(re.norm_sqr() + im.norm_sqr());
+    const double norm_r = std::sqrt(re.norm_sqr() + im.norm_sqr());
     if (derivative != nullptr)
       {
         const auto dot = [](const ComplexVector &a, const ComplexVector &b) { // a^H b
@@ -329,8 +346,7 @@ namespace rotorfit
         residual->re = std::move(re);
         residual->im = std::move(im);
       }
-    const double scale = this->scale(l) * norm_phi;
-    return scale > 0 ? norm_r / scale : 0.;
+    return relative(l, phi, norm_r);
   }
 
   namespace
@@ -418,13 +434,13 @@ namespace rotorfit
                                const PETScWrappers::MPI::SparseMatrix &C,
                                PETScWrappers::MPI::SparseMatrix       &K)
   {
-    // Q(sigma) = K + sigma C + sigma^2 M: one pattern for all of them
-    MatAXPY(K, sigma, C, SAME_NONZERO_PATTERN);
-    MatAXPY(K, sigma * sigma, M, SAME_NONZERO_PATTERN);
+    // Q(sigma) = K + sigma C + sigma^2 M: K's pattern holds the others'
+    add_subset(K, sigma, C);
+    add_subset(K, sigma * sigma, M);
     solver.set_type(DirectSolver::Type::mumps_lu); // G makes Q unsymmetric
     const auto restore = [&]() {
-      MatAXPY(K, -sigma * sigma, M, SAME_NONZERO_PATTERN);
-      MatAXPY(K, -sigma, C, SAME_NONZERO_PATTERN);
+      add_subset(K, -sigma * sigma, M);
+      add_subset(K, -sigma, C);
     };
     try
       {
@@ -453,7 +469,7 @@ namespace rotorfit
     // S = K + sigma^2 M: symmetric (LDL^T, about half the LU's time and
     // memory) and regular with free bodies for the same reason as Q(sigma)
     // (formed in K's storage, as in factorize())
-    MatAXPY(K, sigma * sigma, M, SAME_NONZERO_PATTERN);
+    add_subset(K, sigma * sigma, M);
     solver.set_type(DirectSolver::Type::mumps_cholesky);
     try
       {
@@ -461,10 +477,10 @@ namespace rotorfit
       }
     catch (...)
       {
-        MatAXPY(K, -sigma * sigma, M, SAME_NONZERO_PATTERN);
+        add_subset(K, -sigma * sigma, M);
         throw;
       }
-    MatAXPY(K, -sigma * sigma, M, SAME_NONZERO_PATTERN);
+    add_subset(K, -sigma * sigma, M);
     stats                       = Statistics();
     stats.factorization_seconds = seconds(t0);
     t0                          = clock::now();

@@ -1,3 +1,4 @@
+#include <rotorfit/base/resources.h>
 #include <rotorfit/eigen/prestressed_eigenproblem.h>
 #include <rotorfit/statics/speed_schedule.h>
 
@@ -7,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <iomanip>
+#include <iterator>
 #include <limits>
 #include <sstream>
 
@@ -152,36 +154,42 @@ namespace rotorfit
   }
 
   void
-  PrestressedEigenproblem::add_directions(const std::vector<const Vector<double> *> &parts,
+  PrestressedEigenproblem::add_directions(const std::vector<const Vector<double> *> &all_parts,
                                           const bool bearing_damping)
   {
-    const bool                  stiffening_moves = stiffening == StressStiffening::full;
-    std::vector<Vector<double>> g, k2, cb, theta;
-    replicated_mmult(matrices.gyroscopic, parts, g);
-    if (stiffening_moves)
+    const bool stiffening_moves = stiffening == StressStiffening::full;
+    for (std::size_t first = 0; first < all_parts.size(); first += modes_per_block)
       {
-        replicated_mmult(k_sigma_C, parts, k2);
-        if (convective_term && !convective_folded) // (folded: in k_sigma_C)
-          {
-            replicated_mmult(matrices.convective, parts, theta);
-            for (std::size_t i = 0; i < parts.size(); ++i)
-              k2[i] -= theta[i];
-          }
-      }
-    if (bearing_damping)
-      replicated_mmult(bearing_c, parts, cb);
-    std::vector<Vector<double>> products;
-    for (std::size_t i = 0; i < parts.size(); ++i)
-      {
-        products.push_back(std::move(g[i]));
+        const std::vector<const Vector<double> *> parts(
+          all_parts.begin() + first,
+          all_parts.begin() + std::min(all_parts.size(), first + modes_per_block));
+        std::vector<Vector<double>> g, k2, cb, theta;
+        replicated_mmult(matrices.gyroscopic, parts, g);
         if (stiffening_moves)
-          products.push_back(std::move(k2[i]));
-        if (bearing_damping && cb[i].l2_norm() > 0) // undamped bearings: nothing to add
-          products.push_back(std::move(cb[i]));
+          {
+            replicated_mmult(k_sigma_C, parts, k2);
+            if (convective_term && !convective_folded) // (folded: in k_sigma_C)
+              {
+                replicated_mmult(matrices.convective, parts, theta);
+                for (std::size_t i = 0; i < parts.size(); ++i)
+                  k2[i] -= theta[i];
+              }
+          }
+        if (bearing_damping)
+          replicated_mmult(bearing_c, parts, cb);
+        std::vector<Vector<double>> products;
+        for (std::size_t i = 0; i < parts.size(); ++i)
+          {
+            products.push_back(std::move(g[i]));
+            if (stiffening_moves)
+              products.push_back(std::move(k2[i]));
+            if (bearing_damping && cb[i].l2_norm() > 0) // undamped bearings: nothing to add
+              products.push_back(std::move(cb[i]));
+          }
+        std::vector<Vector<double>> found;
+        replicated_solve(eigensolver.linear_solver(), matrices.mass, pointers(products), found);
+        reduced.add(pointers(found), matrices.mass);
       }
-    std::vector<Vector<double>> found;
-    replicated_solve(eigensolver.linear_solver(), matrices.mass, pointers(products), found);
-    reduced.add(pointers(found), matrices.mass);
   }
 
   void
@@ -190,6 +198,7 @@ namespace rotorfit
     for (auto *av : {&av_mass, &av_gyro, &av_tangent, &av_tangent2, &av_bearing_c})
       std::vector<double>().swap(*av);
     key_basis = key_tangent = key_bearing = ProjectionKey{~0u, 0, -1};
+    resources::give_back_free_memory();
   }
 
   bool
@@ -243,13 +252,20 @@ namespace rotorfit
       // (mu_j + sigma^2)^(k+1): this is the series' next term (the conical
       // impeller at 26,000 r/min: largest estimated error 4.5e-7 -> 8e-10;
       // 14 margin modes instead of 6 gave 1.2e-8 at a larger basis)
-      std::vector<Vector<double>> cx, first, second;
-      replicated_mmult(damping, parts, cx);
-      replicated_solve(eigensolver.linear_solver(), matrices.mass, pointers(cx), first);
-      if (!lasting)
-        reduced.add(pointers(first), matrices.mass);
-      replicated_mmult(matrices.mass, pointers(first), cx);
-      replicated_solve(eigensolver.linear_solver(), matrices.mass, pointers(cx), second);
+      std::vector<Vector<double>> second;
+      for (std::size_t begin = 0; begin < parts.size(); begin += modes_per_block)
+        {
+          const std::vector<const Vector<double> *> block(
+            parts.begin() + begin, parts.begin() + std::min(parts.size(), begin + modes_per_block));
+          std::vector<Vector<double>> cx, first, next;
+          replicated_mmult(damping, block, cx);
+          replicated_solve(eigensolver.linear_solver(), matrices.mass, pointers(cx), first);
+          if (!lasting)
+            reduced.add(pointers(first), matrices.mass);
+          replicated_mmult(matrices.mass, pointers(first), cx);
+          replicated_solve(eigensolver.linear_solver(), matrices.mass, pointers(cx), next);
+          std::move(next.begin(), next.end(), std::back_inserter(second));
+        }
       reduced.add(pointers(second), matrices.mass);
     }
     // the damped modes of this speed outside the basis come from undamped
@@ -369,26 +385,44 @@ namespace rotorfit
         y.push_back(all[k].y);
         count += all[k].lambda.imag() != 0 ? 2 : 1;
       }
-    // phi = V y and M phi, C phi, K_t phi from the kept products A V: a
-    // dense product for all modes at once instead of sparse ones per mode
-    Expanded                   x = expanded(y, omega, state.w(), false);
+    // phi = V y, M phi and the residual Q(lambda) phi from the kept products
+    // A V: dense products for all modes at once instead of sparse ones per
+    // mode (C phi and K_t phi are not kept: only the residual is needed)
+    std::vector<ComplexVector>        v(y.size()), mv(y.size());
+    std::vector<std::complex<double>> lambda;
+    for (const auto k : picked)
+      lambda.push_back(all[k].lambda);
+    const auto pointers = [](std::vector<ComplexVector> &list) {
+      std::vector<ComplexVector *> z;
+      for (auto &x : list)
+        z.push_back(&x);
+      return z;
+    };
+    reduced.multiply(nullptr, y, 1., pointers(v));
+    reduced.multiply(&av_mass, y, 1., pointers(mv));
+    std::vector<ComplexVector> residual = residuals(y, lambda, omega, state.w(), false);
     const BackwardError        backward_error(matrices.mass, damping, tangent);
     std::vector<EigenPair>     pairs;
-    std::vector<ComplexVector> residual(picked.size());
-    std::vector<bool>   usable(picked.size());
-    std::vector<double> scale(picked.size());
+    std::vector<bool>          usable(picked.size());
+    std::vector<double>        scale(picked.size());
+    std::vector<std::complex<double>> sum(reduced.size());
     for (std::size_t i = 0; i < picked.size(); ++i)
       {
-        scale[i]  = std::sqrt(x.v[i].re.norm_sqr() + x.v[i].im.norm_sqr());
+        scale[i]  = std::sqrt(v[i].re.norm_sqr() + v[i].im.norm_sqr());
         usable[i] = scale[i] > 0;
         if (usable[i])
-          for (ComplexVector *z : {&x.v[i], &x.m[i], &x.c[i], &x.k[i]})
-            z->re /= scale[i], z->im /= scale[i];
+          {
+            for (ComplexVector *z : {&v[i], &mv[i], &residual[i]})
+              z->re /= scale[i], z->im /= scale[i];
+            for (std::size_t j = 0; j < sum.size(); ++j)
+              sum[j] += y[i][j] / scale[i];
+          }
       }
     // the products are checked against this speed's sparse matrices on one
     // combination of the modes: the checks on the full matrices rest on them
     std::ostringstream reason;
-    const double       mismatch = checked ? x.mismatch(backward_error, false) : 0.;
+    const double       mismatch =
+      checked ? expanded({sum}, omega, state.w(), false).mismatch(backward_error, false) : 0.;
     if (!(mismatch <= product_tolerance))
       reason << "the reduced model's products differ from this speed's matrices by "
              << std::setprecision(3) << mismatch << " (relative)";
@@ -399,15 +433,13 @@ namespace rotorfit
           continue;
         EigenPair p;
         p.lambda = all[picked[i]].lambda;
-        p.phi    = std::move(x.v[i]);
-        p.m_phi  = std::move(x.m[i]);
+        p.phi    = std::move(v[i]);
+        p.m_phi  = std::move(mv[i]);
         if (checked)
-          p.backward_error =
-            backward_error(p.lambda, p.phi, p.m_phi, x.c[i], x.k[i], &residual[i]);
+          p.backward_error = backward_error.from_residual(p.lambda, p.phi, residual[i]);
         radius = std::max(radius, std::abs(p.lambda - sigma));
         pairs.push_back(std::move(p));
       }
-    std::vector<ComplexVector>().swap(x.k); // (the estimates' peak comes next)
 
     // a mode outside the basis (beyond the anchor's radius) moves at most
     // slope x |Omega - Omega_anchor| in the complex plane
@@ -441,7 +473,7 @@ namespace rotorfit
       {
         std::vector<const EigenPair *>          wanted;
         std::vector<const ReducedBasis::Pair *> dense;
-        std::vector<const ComplexVector *>      r, c_phi;
+        std::vector<const ComplexVector *>      r;
         std::vector<double>                     scales;
         for (unsigned int i = 0; i < std::min<std::size_t>(n_wanted, solution.elastic.size()); ++i)
           {
@@ -453,10 +485,9 @@ namespace rotorfit
             dense.push_back(&all[picked[j]]);
             r.push_back(&residual[j]);
             scales.push_back(scale[j]);
-            c_phi.push_back(&x.c[j]);
           }
         const std::vector<double> estimate =
-          error_estimates(backward_error, wanted, dense, scales, r, c_phi, omega, state.w());
+          error_estimates(backward_error, wanted, dense, scales, r, Cr, omega, state.w());
         for (unsigned int i = 0; i < solution.elastic.size(); ++i)
           {
             // (beyond the wanted modes: no estimate, and they are dropped)

@@ -1,6 +1,7 @@
 #include <rotorfit/eigen/prestressed_eigenproblem.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <iomanip>
@@ -66,6 +67,49 @@ namespace rotorfit
     return blocks;
   }
 
+  namespace
+  {
+    /// The factors of the kept products [M V, C_b V, G V, K_t V, K_t2 V] in
+    /// Q(lambda) V y (Q(lambda)^H V y with @p transpose: conj(lambda) and
+    /// G^T = -G), as expanded() combines them.
+    std::array<std::complex<double>, 5>
+    residual_factors(const std::complex<double> lambda,
+                     const double               omega,
+                     const double               dw,
+                     const bool                 transpose)
+    {
+      const std::complex<double> l = transpose ? std::conj(lambda) : lambda;
+      return {l * l, l, (transpose ? -omega : omega) * l, 1., dw};
+    }
+  } // namespace
+
+  std::vector<ComplexVector>
+  PrestressedEigenproblem::residuals(const std::vector<std::vector<std::complex<double>>> &y,
+                                     const std::vector<std::complex<double>> &lambda,
+                                     const double                             omega,
+                                     const double                             w,
+                                     const bool                               transpose) const
+  {
+    const std::size_t          n = matrices.mass.m();
+    std::vector<ComplexVector> r(y.size(), ComplexVector{Vector<double>(n), Vector<double>(n)});
+    std::vector<ComplexVector *> z;
+    for (auto &x : r)
+      z.push_back(&x);
+    const std::vector<double> *P[5] = {&av_mass, &av_bearing_c, &av_gyro, &av_tangent, &av_tangent2};
+    std::vector<std::vector<std::complex<double>>> scaled(y);
+    for (unsigned int k = 0; k < 5; ++k)
+      {
+        for (std::size_t c = 0; c < y.size(); ++c)
+          {
+            const auto a = residual_factors(lambda[c], omega, w - w_tangent, transpose)[k];
+            for (std::size_t j = 0; j < y[c].size(); ++j)
+              scaled[c][j] = a * y[c][j];
+          }
+        reduced.multiply(P[k], scaled, 1., z);
+      }
+    return r;
+  }
+
   std::vector<std::complex<double>>
   PrestressedEigenproblem::residual_coefficients(const std::vector<std::complex<double>> &y,
                                                  const std::complex<double>               lambda,
@@ -77,8 +121,7 @@ namespace rotorfit
     // Q(lambda) V y = lambda^2 M V y + lambda (C_b V + omega G V) y +
     // (K_t V + (w - w_tangent) K_t2 V) y, as expanded() makes it; its
     // transpose with conj(lambda) and C_b - omega G
-    const std::complex<double> l = transpose ? std::conj(lambda) : lambda;
-    const std::complex<double> a[5] = {l * l, l, (transpose ? -omega : omega) * l, 1., w - w_tangent};
+    const auto                 a    = residual_factors(lambda, omega, w - w_tangent, transpose);
     const std::vector<double> *P[5] = {&av_mass, &av_bearing_c, &av_gyro, &av_tangent, &av_tangent2};
     std::vector<std::complex<double>> x;
     for (unsigned int k = 0; k < 5; ++k)
@@ -94,7 +137,7 @@ namespace rotorfit
                                            const std::vector<const ReducedBasis::Pair *> &dense,
                                            const std::vector<double>                     &scale,
                                            const std::vector<const ComplexVector *>      &residual,
-                                           const std::vector<const ComplexVector *>      &c_phi,
+                                           const FullMatrix<double>                      &Cr,
                                            const double                                   omega,
                                            const double                                   w)
   {
@@ -112,43 +155,54 @@ namespace rotorfit
       z.re.add(a.real(), x.re, -a.imag(), x.im);
       z.im.add(a.imag(), x.re, a.real(), x.im);
     };
-    // y and Q(lambda)^H y = (conj(lambda)^2 M + conj(lambda) C^T + K_t^T) y
-    // from the kept products with C^T = C_b - omega G and K_t^T = K_t, where
-    // the sparse transposed products on their sum agree (not so with
-    // cross-coupled bearings: then the sparse products for each)
     std::vector<std::vector<std::complex<double>>> left;
-    for (const auto *d : dense)
-      left.push_back(d->w);
-    Expanded   y    = expanded(left, omega, w, true);
-    const bool kept = y.mismatch(backward_error, true) <= product_tolerance;
-    if (!kept)
-      for (std::size_t k = 0; k < left.size(); ++k)
-        {
-          replicated_vmult(matrices.mass, y.v[k], y.m[k]);
-          replicated_vmult(damping, y.v[k], y.c[k], true);
-          replicated_vmult(tangent, y.v[k], y.k[k], true);
-        }
+    std::vector<std::complex<double>>              lambda, sum(reduced.size());
+    for (std::size_t k = 0; k < dense.size(); ++k)
+      {
+        left.push_back(dense[k]->w);
+        lambda.push_back(modes[k]->lambda);
+        for (std::size_t j = 0; j < sum.size(); ++j)
+          sum[j] += dense[k]->w[j];
+      }
+    // y^H Q'(lambda) phi = y^H (2 lambda M + C) phi on the basis:
+    // w^H (2 lambda M_r + C_r) y / scale (phi = V y / scale, y = V w)
     std::vector<double> denominator(modes.size()), estimate(modes.size());
     for (std::size_t k = 0; k < modes.size(); ++k)
       {
-        const EigenPair &p = *modes[k];
-        // y^H Q'(lambda) phi = y^H (2 lambda M phi + C phi)
-        denominator[k] =
-          std::abs(2. * p.lambda * dot(y.v[k], p.m_phi) + dot(y.v[k], *c_phi[k])) *
-          std::abs(p.lambda);
+        const auto &yr = dense[k]->y, &wl = dense[k]->w;
+        std::complex<double> d = 0;
+        for (std::size_t i = 0; i < yr.size(); ++i)
+          {
+            std::complex<double> row = 0;
+            for (std::size_t j = 0; j < yr.size(); ++j)
+              row += (2. * modes[k]->lambda * p_mass(i, j) + Cr(i, j)) * yr[j];
+            d += std::conj(wl[i]) * row;
+          }
+        denominator[k] = std::abs(d) * std::abs(modes[k]->lambda) / scale[k];
       }
-    // the left residuals s = Q(lambda)^H y now, and the expanded left
-    // vectors freed: the Gram matrix's block solves below are the memory
-    // peak of a speed (4 vectors of length 2n a mode)
-    std::vector<ComplexVector> s(modes.size());
-    for (std::size_t k = 0; k < modes.size(); ++k)
+    // the left residuals s = Q(lambda)^H y straight from the kept products
+    // with C^T = C_b - omega G and K_t^T = K_t, where the sparse transposed
+    // products on the sum of the left vectors agree (not so with
+    // cross-coupled bearings: then the sparse products for each)
+    const bool kept = expanded({sum}, omega, w, true).mismatch(backward_error, true) <= product_tolerance;
+    std::vector<ComplexVector> s;
+    if (kept)
+      s = residuals(left, lambda, omega, w, true);
+    else
       {
-        const std::complex<double> l = std::conj(modes[k]->lambda);
-        s[k]                         = std::move(y.k[k]);
-        axpy(l * l, y.m[k], s[k]);
-        axpy(l, y.c[k], s[k]);
+        Expanded y = expanded(left, omega, w, true);
+        s.resize(modes.size());
+        for (std::size_t k = 0; k < left.size(); ++k)
+          {
+            replicated_vmult(matrices.mass, y.v[k], y.m[k]);
+            replicated_vmult(damping, y.v[k], y.c[k], true);
+            replicated_vmult(tangent, y.v[k], y.k[k], true);
+            const std::complex<double> l = std::conj(modes[k]->lambda);
+            s[k]                         = std::move(y.k[k]);
+            axpy(l * l, y.m[k], s[k]);
+            axpy(l, y.c[k], s[k]);
+          }
       }
-    y = Expanded();
     const auto ratio = [&](const std::size_t k, const double norm_r, const double norm_s) {
       return denominator[k] > 0 ? norm_r * norm_s / denominator[k] :
                                   std::numeric_limits<double>::infinity();
@@ -199,16 +253,26 @@ namespace rotorfit
     else
       gram.spent += rhs_count;
 
-    std::vector<const Vector<double> *> rhs;
-    for (std::size_t k = 0; k < modes.size(); ++k)
-      rhs.insert(rhs.end(), {&residual[k]->re, &residual[k]->im, &s[k].re, &s[k].im});
-    std::vector<Vector<double>> t;
-    replicated_solve(eigensolver.linear_solver(), matrices.mass, rhs, t);
-    for (std::size_t k = 0; k < modes.size(); ++k)
+    // back-substituted for six modes at a time: the right-hand
+    // sides, the solutions and MUMPS's copy of them are then 3 x 24 columns
+    // instead of 3 x 48, at the memory peak of a run
+    constexpr std::size_t modes_per_solve = 6;
+    for (std::size_t first = 0; first < modes.size(); first += modes_per_solve)
       {
-        const ComplexVector tr{t[4 * k], t[4 * k + 1]}, ts{t[4 * k + 2], t[4 * k + 3]};
-        estimate[k] = ratio(k, std::sqrt(std::abs(dot(*residual[k], tr))),
-                            std::sqrt(std::abs(dot(s[k], ts))));
+        const std::size_t                   end = std::min(modes.size(), first + modes_per_solve);
+        std::vector<const Vector<double> *> rhs;
+        for (std::size_t k = first; k < end; ++k)
+          rhs.insert(rhs.end(), {&residual[k]->re, &residual[k]->im, &s[k].re, &s[k].im});
+        std::vector<Vector<double>> t;
+        replicated_solve(eigensolver.linear_solver(), matrices.mass, rhs, t);
+        for (std::size_t k = first; k < end; ++k)
+          {
+            const std::size_t   j = 4 * (k - first);
+            const ComplexVector tr{std::move(t[j]), std::move(t[j + 1])},
+              ts{std::move(t[j + 2]), std::move(t[j + 3])};
+            estimate[k] = ratio(k, std::sqrt(std::abs(dot(*residual[k], tr))),
+                                std::sqrt(std::abs(dot(s[k], ts))));
+          }
       }
     if (fresh)
       {

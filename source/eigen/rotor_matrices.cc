@@ -16,15 +16,26 @@ namespace rotorfit
   void
   RotorMatrices::reinit(const IndexSet               &owned,
                         const DynamicSparsityPattern &sparsity,
-                        const MPI_Comm                comm)
+                        const MPI_Comm                comm,
+                        const DynamicSparsityPattern *component)
   {
-    mass.reinit(owned, owned, sparsity, comm);
-    for (auto *m : {&stiffness, &gyroscopic, &convective})
-      reinit_like(*m);
+    stiffness.reinit(owned, owned, sparsity, comm);
+    if (component != nullptr)
+      mass.reinit(owned, owned, *component, comm);
+    else
+      reinit_like(mass);
+    for (auto *m : {&gyroscopic, &convective})
+      reinit_like_mass(*m);
   }
 
   void
   RotorMatrices::reinit_like(PETScWrappers::MPI::SparseMatrix &m) const
+  {
+    reinit_with_pattern_of(m, stiffness);
+  }
+
+  void
+  RotorMatrices::reinit_like_mass(PETScWrappers::MPI::SparseMatrix &m) const
   {
     reinit_with_pattern_of(m, mass);
   }
@@ -129,12 +140,11 @@ namespace rotorfit
     AssertThrow(u.size() == k_sigma.size(), ExcInternalError());
     // a matrix of this pattern is zeroed, not made again (TS: 0.57 of the
     // 1.3 s of an assembly of both parts went into making them)
-    const auto entries = mass.n_nonzero_elements();
     for (auto *k : k_sigma)
-      if (k->m() == mass.m() && k->n_nonzero_elements() == entries)
+      if (k->m() == mass.m() && k->n_nonzero_elements() > 0)
         *k = 0;
       else
-        reinit_like(*k);
+        reinit_like_mass(*k);
     const auto            &fe = dof_handler.get_fe();
     FEValues<3>            fe_values(mapping,
                           fe,

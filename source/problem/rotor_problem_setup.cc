@@ -159,7 +159,9 @@ namespace rotorfit
     const double statics = factorization_bytes(n, true) + 3 * sparse_matrix_bytes(n);
     double       modes   = 0;
     if (eigen.enabled())
-      modes = factorization_bytes(n, false) + 8 * sparse_matrix_bytes(n) +
+      // K and the tangent on the full pattern; M, G, C, K_sigma(u_C) and
+      // K_theta couple each component only with itself (a third of it)
+      modes = factorization_bytes(n, false) + (2 + 5 / 3.) * sparse_matrix_bytes(n) +
               // the Arnoldi vectors are replicated on every rank
               Utilities::MPI::n_mpi_processes(comm) * eigen.state_vectors_needed(n) * 2 * n * 8.;
     const double peak = std::max(statics, modes);

@@ -76,6 +76,16 @@ namespace rotorfit
       mallopt(M_MMAP_THRESHOLD, static_cast<int>(mapped_block_bytes));
     }
 
+    /// Free pages inside the heap given back to the system (glibc's
+    /// malloc_trim): the blocks below mapped_block_bytes that a speed frees
+    /// leave holes the heap keeps resident; before a factorisation and after
+    /// each speed they are returned (TS's resident peak: 1,538 -> ... MB).
+    inline void
+    give_back_free_memory()
+    {
+      malloc_trim(0);
+    }
+
     /// This process's resident memory [bytes], now or at its peak (Linux
     /// /proc/self/status VmRSS, VmHWM; 0 where there is none).
     inline double

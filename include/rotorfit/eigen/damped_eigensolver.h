@@ -62,6 +62,12 @@ namespace rotorfit
                ComplexVector             *residual   = nullptr,
                std::complex<double>      *derivative = nullptr) const;
 
+    /// The same from the residual r = Q(lambda) phi at hand.
+    double
+    from_residual(const std::complex<double> lambda,
+                  const ComplexVector       &phi,
+                  const ComplexVector       &residual) const;
+
     /// max over A = M, C, K of |A phi - Ap| / |A phi| (A^T for
     /// @p transpose): how far products taken elsewhere are from these
     /// matrices' own.
@@ -81,6 +87,10 @@ namespace rotorfit
     }
 
   private:
+    /// |r| / ((|lambda|^2 |M| + |lambda| |C| + |K|) |phi|)
+    double
+    relative(const std::complex<double> lambda, const ComplexVector &phi, const double norm_r) const;
+
     const dealii::PETScWrappers::MPI::SparseMatrix &M, &C, &K;
     const double                                    norm_M, norm_C, norm_K;
   };

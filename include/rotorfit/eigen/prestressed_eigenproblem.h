@@ -220,15 +220,25 @@ namespace rotorfit
              const double                                          omega,
              const double                                          w,
              const bool                                            transpose) const;
+    /// Q(lambda_c) V y_c for each column y_c, from the kept products (one
+    /// dgemm per product for all columns; no M, C, K products per mode
+    /// held); Q(lambda_c)^H V y_c with @p transpose, as expanded() makes it.
+    std::vector<ComplexVector>
+    residuals(const std::vector<std::vector<std::complex<double>>> &y,
+              const std::vector<std::complex<double>>              &lambda,
+              double                                                omega,
+              double                                                w,
+              bool                                                  transpose) const;
     /// Estimated relative errors of reduced modes' eigenvalues, from their
-    /// residuals (of the vectors V y / scale) and C phi.
+    /// residuals (of the vectors V y / scale) and the reduced damping
+    /// matrix @p Cr of the speed.
     std::vector<double>
     error_estimates(const BackwardError                           &backward_error,
                     const std::vector<const EigenPair *>          &modes,
                     const std::vector<const ReducedBasis::Pair *> &dense,
                     const std::vector<double>                     &scale,
                     const std::vector<const ComplexVector *>      &residual,
-                    const std::vector<const ComplexVector *>      &c_phi,
+                    const dealii::FullMatrix<double>              &Cr,
                     const double                                   omega,
                     const double                                   w);
     /// The kept products A V whose columns span every residual of a reduced
@@ -333,6 +343,10 @@ namespace rotorfit
       bool         refused = false; ///< disagreed with the back-substitutions
       double       seconds = 0;
     } gram;
+    /// An anchor's directions are made for this many modes at a time: the
+    /// products, their back-substitutions and MUMPS's copies for a whole
+    /// anchor (78 columns on TS's benchmark mesh) were a run's memory peak.
+    static constexpr std::size_t modes_per_block = 8;
     /// How far the kept products (A V) y may stray from A (V y), relative.
     /// Rounding, amplified by the cancellation that penalty ties cause in
     /// K_t phi, reaches 6.7e-9 on the tutorial disk and 5e-10 on TS; a

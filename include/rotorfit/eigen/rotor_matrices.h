@@ -27,12 +27,14 @@ namespace rotorfit
   class RotorMatrices
   {
   public:
-    /// All matrices get the pattern of @p sparsity (pattern-wise sums; M is
-    /// made from it, the others copy M's index arrays).
+    /// K gets the pattern of @p sparsity; M, G and K_theta, which couple a
+    /// displacement component only with itself, that of @p component
+    /// (a third of the entries), or @p sparsity's where it is null.
     void
     reinit(const dealii::IndexSet               &owned,
            const dealii::DynamicSparsityPattern &sparsity,
-           const MPI_Comm                        comm);
+           const MPI_Comm                        comm,
+           const dealii::DynamicSparsityPattern *component = nullptr);
 
     void
     assemble(const dealii::DoFHandler<3> &dof_handler,
@@ -49,7 +51,8 @@ namespace rotorfit
                               const dealii::PETScWrappers::MPI::Vector &u,
                               dealii::PETScWrappers::MPI::SparseMatrix &k_sigma) const;
 
-    /// K_sigma of each displacement @p u[k] into @p k_sigma[k], in one pass
+    /// K_sigma of each displacement @p u[k] into @p k_sigma[k] (zeroed where
+    /// it has a pattern, else given M's), in one pass
     /// over the cells (an active set's two parts, u_I and u_C); with a
     /// @p minus[k] (may be null) K_sigma(u[k] - minus[k]) (K_sigma is linear
     /// in u: the change from one static state to the next); with
@@ -65,9 +68,14 @@ namespace rotorfit
                               const std::vector<const dealii::PETScWrappers::MPI::Vector *> &minus = {},
                               const std::vector<bool> &minus_convective = {}) const;
 
-    /// A zero matrix with the common pattern.
+    /// A zero matrix with K's pattern (the full one).
     void
     reinit_like(dealii::PETScWrappers::MPI::SparseMatrix &m) const;
+
+    /// A zero matrix with M's pattern (each component with itself): enough
+    /// for M, G, K_theta and K_sigma.
+    void
+    reinit_like_mass(dealii::PETScWrappers::MPI::SparseMatrix &m) const;
 
     dealii::PETScWrappers::MPI::SparseMatrix mass, stiffness, gyroscopic, convective;
   };

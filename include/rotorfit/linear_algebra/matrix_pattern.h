@@ -20,4 +20,12 @@ namespace rotorfit
     dealii::PETScWrappers::close_matrix(a);
     dealii::PETScWrappers::set_keep_zero_rows(a);
   }
+
+  /// Y += a X for an assembled X whose pattern is a subset of Y's (same row
+  /// layout): one merge of the sorted rows, as fast as MatAXPY on one
+  /// pattern (PETSc's SUBSET_NONZERO_PATTERN path sets the values row by
+  /// row, about ten times slower). Throws std::logic_error where an entry of
+  /// X has no place in Y.
+  void
+  add_subset(Mat Y, const double a, Mat X);
 } // namespace rotorfit
