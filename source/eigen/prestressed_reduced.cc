@@ -359,6 +359,8 @@ namespace rotorfit
     const double omega = SpeedSchedule::rpm_to_rad_per_s(state.rpm);
     const double sigma = eigensolver.shift();
     update_projections(state);
+    if (checked)
+      prepare_gram(false); // a lasting anchor's, before the modes are expanded
     const double t_projections = elapsed();
     FullMatrix<double> Kr(p_tangent0), Cr(p_bearing_c);
     Kr.add(state.w(), p_tangent2);

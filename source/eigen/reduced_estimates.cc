@@ -131,6 +131,24 @@ namespace rotorfit
     return x;
   }
 
+  void
+  PrestressedEigenproblem::prepare_gram(const bool due)
+  {
+    const auto key = std::make_tuple(reduced.version(), key_tangent.k_sigma, key_tangent.rpm,
+                                     key_bearing.rpm, eigensolver.linear_solver().n_factorizations());
+    if (gram.key != key)
+      gram = ResidualGram{{}, residual_blocks(), key};
+    // (its rounding floor stays far below the tolerance)
+    if (gram.g.empty() && !gram.refused && reduced.tolerance() >= 10 * gram_floor &&
+        (due || reduced.version() == gram_eager_version))
+      {
+        const auto t0 = std::chrono::steady_clock::now();
+        gram.g        = replicated_inverse_gram(eigensolver.linear_solver(), matrices.mass, gram.blocks);
+        gram.seconds  = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        gram.checked  = false;
+      }
+  }
+
   std::vector<double>
   PrestressedEigenproblem::error_estimates(const BackwardError                           &backward_error,
                                            const std::vector<const EigenPair *>          &modes,
@@ -214,23 +232,13 @@ namespace rotorfit
     // back-substitution. It costs as many back-substituted columns as the
     // blocks have, so it is made where the basis is to serve many speeds
     // (a lasting anchor's), or once the estimates on it have cost as much.
-    const auto key = std::make_tuple(reduced.version(), key_tangent.k_sigma, key_tangent.rpm,
-                                     key_bearing.rpm, eigensolver.linear_solver().n_factorizations());
-    if (gram.key != key)
-      gram = ResidualGram{{}, residual_blocks(), key};
-    const auto &blocks = gram.blocks;
     const unsigned int rhs_count = 4 * modes.size();
-    bool               fresh     = false;
-    // (its rounding floor stays far below the tolerance)
-    if (kept && gram.g.empty() && !gram.refused && reduced.tolerance() >= 10 * gram_floor &&
-        (reduced.version() == gram_eager_version ||
-         gram.spent + rhs_count > blocks.size() * reduced.size()))
-      {
-        const auto t0 = std::chrono::steady_clock::now();
-        gram.g        = replicated_inverse_gram(eigensolver.linear_solver(), matrices.mass, blocks);
-        gram.seconds  = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        fresh         = true;
-      }
+    if (kept)
+      prepare_gram(gram.spent + rhs_count > gram.blocks.size() * reduced.size());
+    const auto &blocks = gram.blocks;
+    // (a Gram matrix made before the modes were expanded is checked at the
+    // first speed whose left residuals come from the kept products)
+    const bool fresh = kept && !gram.g.empty() && !gram.checked;
     std::vector<double> from_gram(modes.size());
     if (kept && !gram.g.empty())
       {
@@ -285,6 +293,7 @@ namespace rotorfit
           difference = std::max(difference, std::abs(from_gram[k] - estimate[k]) /
                                               std::max(estimate[k], gram_floor / gram_agreement));
         gram.refused = !(difference <= gram_agreement);
+        gram.checked = true;
         ++gram_builds;
         gram_worst_difference = std::max(gram_worst_difference, difference);
         std::ostringstream line;

@@ -81,7 +81,6 @@ namespace rotorfit
           }
 
         finished_steps = k + 1;
-        resources::give_back_free_memory();
         log_speed(state);
         if (stop_on_loss_of_fit && statics.every_fit_open())
           {

@@ -57,7 +57,7 @@ namespace rotorfit
     }
 
     /// Blocks from this size [bytes] are mapped alone (map_large_blocks()).
-    constexpr std::size_t mapped_block_bytes = 32u << 20;
+    constexpr std::size_t mapped_block_bytes = 12u << 20;
 
     /// Large blocks mapped and unmapped alone again. Debian 12's
     /// libsuperlu_dist (loaded with PETSc; HYPRE too) calls
@@ -65,8 +65,10 @@ namespace rotorfit
     /// factor too, then lives in the brk heap, whose holes glibc cannot give
     /// back, and a freed factor left a hole the next one did not fit (a TS
     /// band run's resident peak stood 0.8 GB above its heap's). The
-    /// threshold is fixed because any mallopt stops glibc's sliding one; 32 MB
-    /// is that one's ceiling. Smaller blocks, the vectors made at every
+    /// threshold is fixed because any mallopt stops glibc's sliding one. At
+    /// 12 MB the block solves' and mode blocks' arrays of a speed (12-25 MB
+    /// on TS) leave no holes in the heap: TS's peak 1.51 -> 1.46 GB (32 MB,
+    /// glibc's own ceiling, before). Smaller blocks, the vectors made at every
     /// speed, stay in the heap: a 128 kB threshold mapped each anew and made
     /// TS 50 % slower (benchmarks/README.md).
     inline void
@@ -77,9 +79,11 @@ namespace rotorfit
     }
 
     /// Free pages inside the heap given back to the system (glibc's
-    /// malloc_trim): the blocks below mapped_block_bytes that a speed frees
-    /// leave holes the heap keeps resident; before a factorisation and after
-    /// each speed they are returned (TS's resident peak: 1,538 -> ... MB).
+    /// malloc_trim): the blocks below mapped_block_bytes that the speeds
+    /// free leave holes the heap keeps resident. Called before an anchor's
+    /// factorisation, not after every speed: there the pages given back are
+    /// faulted in again at the next speed (TS: 9 % more wall time for 30 MB
+    /// less, benchmarks/README.md).
     inline void
     give_back_free_memory()
     {

@@ -241,6 +241,13 @@ namespace rotorfit
                     const dealii::FullMatrix<double>              &Cr,
                     const double                                   omega,
                     const double                                   w);
+    /// The Gram matrix of the residual blocks for the current basis, tangent
+    /// and factorisation: made where @p due (the estimates have cost as many
+    /// back-substituted columns) or the basis is a lasting anchor's. Called
+    /// by a reduced solve before it expands its modes, so that the block
+    /// solves and the mode vectors are not held at once.
+    void
+    prepare_gram(bool due);
     /// The kept products A V whose columns span every residual of a reduced
     /// speed on the current projections: M, C_b, G, K_t, K_t2 (empty and
     /// zero ones left out; the coefficients of residual_coefficients()).
@@ -341,6 +348,7 @@ namespace rotorfit
       std::tuple<unsigned int, unsigned int, double, double, unsigned int> key{~0u, 0, -1, -1, 0};
       unsigned int spent   = 0;     ///< columns back-substituted for estimates on this key
       bool         refused = false; ///< disagreed with the back-substitutions
+      bool         checked = false; ///< compared with them (once, at its first speed)
       double       seconds = 0;
     } gram;
     /// An anchor's directions are made for this many modes at a time: the
