@@ -21,6 +21,7 @@
 
 namespace rotorfit
 {
+
   using namespace dealii;
 
   namespace
@@ -394,14 +395,8 @@ namespace rotorfit
     std::vector<std::complex<double>> lambda;
     for (const auto k : picked)
       lambda.push_back(all[k].lambda);
-    const auto pointers = [](std::vector<ComplexVector> &list) {
-      std::vector<ComplexVector *> z;
-      for (auto &x : list)
-        z.push_back(&x);
-      return z;
-    };
-    reduced.multiply(nullptr, y, 1., pointers(v));
-    reduced.multiply(&av_mass, y, 1., pointers(mv));
+    reduced.multiply(nullptr, y, 1., column_pointers(v));
+    reduced.multiply(&av_mass, y, 1., column_pointers(mv));
     std::vector<ComplexVector> residual = residuals(y, lambda, omega, state.w(), false);
     const BackwardError        backward_error(matrices.mass, damping, tangent);
     std::vector<EigenPair>     pairs;

@@ -27,18 +27,12 @@ namespace rotorfit
     Expanded          e;
     for (auto *list : {&e.v, &e.m, &e.c, &e.k})
       list->assign(y.size(), ComplexVector{Vector<double>(n), Vector<double>(n)});
-    const auto columns = [](std::vector<ComplexVector> &list) {
-      std::vector<ComplexVector *> z;
-      for (auto &x : list)
-        z.push_back(&x);
-      return z;
-    };
-    reduced.multiply(nullptr, y, 1., columns(e.v));
-    reduced.multiply(&av_mass, y, 1., columns(e.m));
-    reduced.multiply(&av_bearing_c, y, 1., columns(e.c));
-    reduced.multiply(&av_gyro, y, transpose ? -omega : omega, columns(e.c)); // G^T = -G
-    reduced.multiply(&av_tangent, y, 1., columns(e.k));
-    reduced.multiply(&av_tangent2, y, w - w_tangent, columns(e.k));
+    reduced.multiply(nullptr, y, 1., column_pointers(e.v));
+    reduced.multiply(&av_mass, y, 1., column_pointers(e.m));
+    reduced.multiply(&av_bearing_c, y, 1., column_pointers(e.c));
+    reduced.multiply(&av_gyro, y, transpose ? -omega : omega, column_pointers(e.c)); // G^T = -G
+    reduced.multiply(&av_tangent, y, 1., column_pointers(e.k));
+    reduced.multiply(&av_tangent2, y, w - w_tangent, column_pointers(e.k));
     return e;
   }
 

@@ -20,6 +20,16 @@ namespace rotorfit
     dealii::Vector<double> re, im;
   };
 
+  /// Pointers to each of @p list (the output columns of a block product).
+  inline std::vector<ComplexVector *>
+  column_pointers(std::vector<ComplexVector> &list)
+  {
+    std::vector<ComplexVector *> z;
+    for (auto &x : list)
+      z.push_back(&x);
+    return z;
+  }
+
   /// One eigenpair of the quadratic problem (lambda^2 M + lambda C + K) phi = 0.
   struct EigenPair
   {
