@@ -77,6 +77,8 @@ namespace rotorfit
   const ModalResult &
   ModalAnalysis::analyse(EigenSolution &&solution)
   {
+    for (const auto &p : solution.elastic)
+      sweep_worst_estimate = std::max(sweep_worst_estimate, p.error_estimate);
     result = classify(std::move(solution));
     check_doublets();
     result.crossings = tracker.track(result.rpm, result.modes);
@@ -167,6 +169,7 @@ namespace rotorfit
   {
     summary.add("eigen.critical_speeds", n_critical);
     summary.add("eigen.critical_speeds_unsolved", n_unsolved);
+    summary.add("eigen.sweep_worst_error_estimate", sweep_worst_estimate, 12);
     log << "Critical speeds: " << n_critical << " crossing(s) in critical_speeds.csv\n";
   }
 } // namespace rotorfit

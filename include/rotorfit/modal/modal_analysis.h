@@ -101,6 +101,11 @@ namespace rotorfit
     ModalResult               result;
     std::vector<EigenSolution> crossing_solutions; ///< parallel to result.crossings
     unsigned int              n_critical = 0, n_unsolved = 0;
+    /// largest error estimate of a reduced mode at a speed of the sweep (the
+    /// root solves' checked solves apart: at a crossing two lines may lie
+    /// within each other's damping, where the estimate holds the pair's
+    /// condition, doc/theory.md 8.6)
+    double sweep_worst_estimate = 0;
     bool                      linear_elements = false; ///< Element order 1: locking may split doublets
   };
 } // namespace rotorfit
