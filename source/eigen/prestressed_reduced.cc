@@ -21,7 +21,6 @@
 
 namespace rotorfit
 {
-
   using namespace dealii;
 
   namespace

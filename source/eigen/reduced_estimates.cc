@@ -86,9 +86,7 @@ namespace rotorfit
   {
     const std::size_t          n = matrices.mass.m();
     std::vector<ComplexVector> r(y.size(), ComplexVector{Vector<double>(n), Vector<double>(n)});
-    std::vector<ComplexVector *> z;
-    for (auto &x : r)
-      z.push_back(&x);
+    const auto z = column_pointers(r);
     const std::vector<double> *P[5] = {&av_mass, &av_bearing_c, &av_gyro, &av_tangent, &av_tangent2};
     std::vector<std::vector<std::complex<double>>> scaled(y);
     for (unsigned int k = 0; k < 5; ++k)

@@ -25,7 +25,8 @@ namespace rotorfit
   /// layout): one merge of the sorted rows, as fast as MatAXPY on one
   /// pattern (PETSc's SUBSET_NONZERO_PATTERN path sets the values row by
   /// row, about ten times slower). Throws std::logic_error where an entry of
-  /// X has no place in Y.
+  /// X has no place in Y (a fault of the caller's patterns; Y is then left
+  /// partly summed).
   void
   add_subset(Mat Y, const double a, Mat X);
 } // namespace rotorfit
