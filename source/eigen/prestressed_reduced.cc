@@ -283,9 +283,16 @@ namespace rotorfit
     std::ostringstream line; // (its precision must not stick to the log)
     line << "  eigen: undamped anchor: " << found << " modes up to " << std::setprecision(5)
         << std::sqrt(std::max(0., modes[found - 1].mu)) / (2 * M_PI) << " Hz, max residual "
-        << std::setprecision(2) << residual << "; Lanczos " << stats.requested << " of "
-        << stats.krylov_size << ", " << stats.iterations << " restarts, "
-        << stats.operator_applications << " solves; basis " << reduced.size() << "; "
+        << std::setprecision(2) << residual << "; ";
+    if (stats.block_size > 1)
+      line << "block Lanczos " << stats.requested << " of " << stats.krylov_size << ", "
+           << stats.iterations << " steps, " << stats.operator_applications << " solves in "
+           << stats.block_solves << " blocks of " << stats.block_size;
+    else
+      line << "Lanczos " << stats.requested << " of " << stats.krylov_size << ", "
+           << stats.iterations << " restarts, " << stats.operator_applications << " solves"
+           << (stats.fallback.empty() ? "" : " (" + stats.fallback + ")");
+    line << "; basis " << reduced.size() << "; "
         << std::setprecision(3) << stats.factorization_seconds << " s LDL^T, "
         << stats.arnoldi_seconds << " s Lanczos ("
         << stats.solve_seconds << " s back-substitutions), "

@@ -147,6 +147,19 @@ namespace rotorfit
   } // namespace
 
   void
+  replicated_solve(const DirectSolver                     &solver,
+                   const PETScWrappers::MPI::SparseMatrix &layout,
+                   const double                           *b,
+                   const unsigned int                      m,
+                   double                                 *x)
+  {
+    const std::size_t n = layout.m();
+    solve_columns(
+      solver, layout, m, [&](const PetscInt j) { return b + j * n; },
+      [&](const PetscInt j) { return x + j * n; });
+  }
+
+  void
   replicated_solve(const DirectSolver                          &solver,
                    const PETScWrappers::MPI::SparseMatrix      &layout,
                    const std::vector<const Vector<double> *>   &b,

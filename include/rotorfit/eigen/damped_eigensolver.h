@@ -10,6 +10,7 @@
 #include <deal.II/lac/vector.h>
 
 #include <complex>
+#include <string>
 #include <vector>
 
 namespace rotorfit
@@ -138,6 +139,9 @@ namespace rotorfit
       /// with its checks compiled out): never eigenvalues, never rigid modes
       unsigned int unconverged_slots = 0;
       unsigned int operator_applications = 0;
+      unsigned int block_size   = 1; ///< columns per back-substitution (undamped)
+      unsigned int block_solves = 0; ///< passes over the factors (block Lanczos)
+      std::string  fallback;         ///< why the block Lanczos gave way to ARPACK
       double       factorization_seconds = 0, arnoldi_seconds = 0,
                    solve_seconds = 0, check_seconds = 0;
     };
@@ -181,7 +185,9 @@ namespace rotorfit
     /**
      * The @p n_modes lowest modes of K phi = mu M phi (K symmetric: no
      * gyroscopic or damping term), ascending in mu: symmetric Lanczos
-     * (ARPACK dsaupd, mode 3) about mu = -sigma^2 on an LDL^T of
+     * (Anasazi's block Krylov-Schur, or ARPACK dsaupd mode 3 for
+     * Lanczos block size 1 and where the block method comes short) about
+     * mu = -sigma^2 on an LDL^T of
      * S = K + sigma^2 M, which is positive definite wherever K is positive
      * semi-definite, rigid motions included, formed in @p K's storage as
      * in factorize(); the factorisation stays for linear_solver()
@@ -222,6 +228,7 @@ namespace rotorfit
     double       tolerance           = 1e-10;
     double       krylov_factor       = 2;
     unsigned int max_restarts        = 300;
+    unsigned int lanczos_block       = 6;
     double       max_backward_error  = 1e-6;
     DirectSolver solver;
   };
@@ -264,6 +271,14 @@ namespace rotorfit
                    const dealii::PETScWrappers::MPI::SparseMatrix &layout,
                    const dealii::Vector<double>                   &b,
                    dealii::Vector<double>                         &x);
+
+  /// X = A^{-1} B for @p m replicated columns, column-major n x m arrays.
+  void
+  replicated_solve(const DirectSolver                             &solver,
+                   const dealii::PETScWrappers::MPI::SparseMatrix &layout,
+                   const double                                   *b,
+                   unsigned int                                    m,
+                   double                                         *x);
 
   /// x_j = A^{-1} b_j for a block of replicated vectors (one pass over the factors).
   void
