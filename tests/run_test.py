@@ -367,10 +367,15 @@ def lock_and_signal(exe, prm, outdir):
         if os.path.exists(log) and len(open(log).read().splitlines()) >= 2:
             break
         time.sleep(0.2)
+    # A is held (SIGSTOP) while B tries the folder: a fast A could
+    # otherwise finish its sweep before B is refused and the SIGTERM sent
+    # (seen once under ctest -j2); the SIGTERM waits for SIGCONT
+    a.send_signal(signal.SIGSTOP)
     b = subprocess.run([exe] + args, capture_output=True, text=True)
     print("second run:", b.returncode, b.stderr.strip())
     ok = b.returncode == 1 and f"process id {a.pid})" in b.stderr
     a.send_signal(signal.SIGTERM)
+    a.send_signal(signal.SIGCONT)
     out, err = a.communicate(timeout=600)
     print(out[-1500:], err[-1500:])
     print("first run exit code:", a.returncode, "(expected 3)")
