@@ -232,6 +232,15 @@ namespace rotorfit
                       "factors per block), with ARPACK on the same factors "
                       "where it finds too few modes; 1: ARPACK's "
                       "single-vector Lanczos [-].");
+    prm.declare_entry("Lanczos tolerance",
+                      "1e-6",
+                      patterns::Positive(),
+                      "Convergence tolerance of the undamped anchors' Lanczos run "
+                      "(relative residual of each mode of S^-1 M; ARPACK's relative "
+                      "accuracy with Lanczos block size = 1) [-]. The modes only "
+                      "span the reduced basis (their backward errors stay near "
+                      "1e-9): every reduced solve is checked on the full "
+                      "matrices against Reduced tolerance.");
     prm.declare_entry("Backward error limit",
                       "1e-6",
                       patterns::Positive(),
@@ -252,6 +261,7 @@ namespace rotorfit
     krylov_factor      = prm.get_double("Krylov size factor");
     max_restarts       = prm.get_integer("Maximum restarts");
     lanczos_block      = prm.get_integer("Lanczos block size");
+    lanczos_tolerance  = prm.get_double("Lanczos tolerance");
     max_backward_error = prm.get_double("Backward error limit");
     prm.leave_subsection();
     solver.set_type(DirectSolver::Type::mumps_lu); // Q(sigma) is unsymmetric (G)
@@ -537,7 +547,7 @@ namespace rotorfit
     std::vector<Vector<double>>       z;
     std::vector<std::complex<double>> mu;
     const auto arpack = [&]() {
-      SolverControl control(max_restarts, tolerance, false, false);
+      SolverControl control(max_restarts, lanczos_tolerance, false, false);
       ArpackSolver  solver_arpack(
         control, ArpackSolver::AdditionalData(ncv, ArpackSolver::largest_magnitude, true));
       solver_arpack.set_shift(-sigma * sigma);
@@ -558,7 +568,7 @@ namespace rotorfit
         std::vector<double>    theta;
         BlockLanczosStatistics block;
         block_lanczos(M, solver, asked, lanczos_block, n_blocks, max_restarts,
-                      std::max(tolerance, 1e-14), theta, z, block);
+                      lanczos_tolerance, theta, z, block);
         z.resize(std::min<std::size_t>(z.size(), nev));
         mu.resize(z.size());
         for (std::size_t j = 0; j < z.size(); ++j)

@@ -229,6 +229,7 @@ namespace rotorfit
     double       krylov_factor       = 2;
     unsigned int max_restarts        = 300;
     unsigned int lanczos_block       = 6;
+    double       lanczos_tolerance   = 1e-6;
     double       max_backward_error  = 1e-6;
     DirectSolver solver;
   };
