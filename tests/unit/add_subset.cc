@@ -17,6 +17,7 @@
 
 #include <stdexcept>
 
+#include "petsc_matrix.h"
 #include "unit_check.h"
 
 using namespace dealii;
@@ -54,17 +55,7 @@ namespace
   make(PETScWrappers::MPI::SparseMatrix &A, const IndexSet &owned, const MPI_Comm comm,
        bool (*pattern)(unsigned int, unsigned int), double (*value)(unsigned int, unsigned int))
   {
-    DynamicSparsityPattern dsp(n, n, owned);
-    for (const auto i : owned)
-      for (unsigned int j = 0; j < n; ++j)
-        if (pattern(i, j))
-          dsp.add(i, j);
-    A.reinit(owned, owned, dsp, comm);
-    for (const auto i : owned)
-      for (unsigned int j = 0; j < n; ++j)
-        if (pattern(i, j))
-          A.set(i, j, value(i, j));
-    A.compress(VectorOperation::insert);
+    make_matrix(A, n, owned, comm, pattern, value);
   }
 } // namespace
 
@@ -75,9 +66,8 @@ main(int argc, char **argv)
   const MPI_Comm     comm  = MPI_COMM_WORLD;
   const unsigned int ranks = Utilities::MPI::n_mpi_processes(comm),
                      rank  = Utilities::MPI::this_mpi_process(comm);
-  IndexSet owned(n);
-  owned.add_range(rank * n / ranks, (rank + 1) * n / ranks);
-  Checks check;
+  const IndexSet     owned = owned_rows(n, comm);
+  Checks             check;
 
   PETScWrappers::MPI::SparseMatrix Y, X;
   make(Y, owned, comm, in_y, y_value);

@@ -21,6 +21,7 @@
 #include <cmath>
 #include <vector>
 
+#include "petsc_matrix.h"
 #include "unit_check.h"
 
 using namespace dealii;
@@ -38,31 +39,20 @@ namespace
     return chain == 2 ? k_stiff : k_soft;
   }
 
+  /// M (diagonal) or K + shift M (fixed at both ends: 2k on the diagonal,
+  /// -k to each neighbour in the same chain)
   void
   make(PETScWrappers::MPI::SparseMatrix &A, const IndexSet &owned, const MPI_Comm comm,
        const bool is_mass, const double shift)
   {
-    DynamicSparsityPattern dsp(n, n, owned);
-    for (const auto i : owned)
-      for (unsigned int j = (i % N == 0 ? i : i - 1); j <= std::min(i + 1, (i / N + 1) * N - 1); ++j)
-        dsp.add(i, j);
-    A.reinit(owned, owned, dsp, comm);
-    for (const auto i : owned)
-      {
-        const double k = stiffness(i / N);
-        if (is_mass)
-          {
-            A.set(i, i, mass);
-            continue;
-          }
-        // fixed at both ends: 2k on the diagonal, -k to each neighbour
-        A.set(i, i, 2 * k + shift * mass);
-        if (i % N != 0)
-          A.set(i, i - 1, -k);
-        if (i % N != N - 1)
-          A.set(i, i + 1, -k);
-      }
-    A.compress(VectorOperation::insert);
+    const auto neighbours = [](unsigned int i, unsigned int j) {
+      return i == j || (i / N == j / N && (i + 1 == j || j + 1 == i));
+    };
+    make_matrix(A, n, owned, comm, neighbours, [&](unsigned int i, unsigned int j) {
+      if (i == j)
+        return is_mass ? mass : 2 * stiffness(i / N) + shift * mass;
+      return is_mass ? 0. : -stiffness(i / N);
+    });
   }
 } // namespace
 
@@ -73,9 +63,8 @@ main(int argc, char **argv)
   const MPI_Comm     comm  = MPI_COMM_WORLD;
   const unsigned int ranks = Utilities::MPI::n_mpi_processes(comm),
                      rank  = Utilities::MPI::this_mpi_process(comm);
-  IndexSet owned(n);
-  owned.add_range(rank * n / ranks, (rank + 1) * n / ranks);
-  Checks check;
+  const IndexSet     owned = owned_rows(n, comm);
+  Checks             check;
 
   const double                     shift = 1e-3; // S = K + shift M
   PETScWrappers::MPI::SparseMatrix M, K, S;
