@@ -353,6 +353,7 @@ namespace rotorfit
   PrestressedEigenproblem::assemble_tangent(const StaticState &state, const std::vector<bool> &tied)
   {
     TimerOutput::Scope t(timer, "eigen: tangent (K_sigma, ties, bearings)");
+    ++tangent_serial;
     if (bearings.speed_dependent() || speeds_done == 0)
       {
         bearing_k = 0;

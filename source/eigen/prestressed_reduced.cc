@@ -97,17 +97,21 @@ namespace rotorfit
           Cu         = std::move(e.c[0]);
           Ku         = std::move(e.k[0]);
         };
-        op.row_products = [this, omega, dw](const Vector<double> &x,
-                                            std::vector<double>  &m_row,
-                                            std::vector<double>  &c_row,
-                                            std::vector<double>  &k_row) {
-          for (auto *c : {&m_row, &c_row, &k_row})
-            c->clear();
-          reduced.apply_transpose(av_mass, x, 1., m_row);
-          reduced.apply_transpose(av_bearing_c, x, 1., c_row);
-          reduced.apply_transpose(av_gyro, x, omega, c_row);
-          reduced.apply_transpose(av_tangent, x, 1., k_row);
-          reduced.apply_transpose(av_tangent2, x, dw, k_row);
+        op.row_products = [this, omega, dw](const std::vector<const Vector<double> *> &x,
+                                            std::vector<double>                     &m_rows,
+                                            std::vector<double>                     &c_rows,
+                                            std::vector<double>                     &k_rows) {
+          const std::size_t   n = matrices.mass.m();
+          std::vector<double> X(n * x.size());
+          for (std::size_t j = 0; j < x.size(); ++j)
+            std::copy(x[j]->begin(), x[j]->end(), X.begin() + j * n);
+          for (auto *c : {&m_rows, &c_rows, &k_rows})
+            c->assign(reduced.size() * x.size(), 0.);
+          reduced.apply_transpose(av_mass, X, 1., m_rows);
+          reduced.apply_transpose(av_bearing_c, X, 1., c_rows);
+          reduced.apply_transpose(av_gyro, X, omega, c_rows);
+          reduced.apply_transpose(av_tangent, X, 1., k_rows);
+          reduced.apply_transpose(av_tangent2, X, dw, k_rows);
         };
       }
     return op;
@@ -221,6 +225,7 @@ namespace rotorfit
     {
       TimerOutput::Scope t(timer, "eigen: undamped anchor");
       modes = eigensolver.solve_undamped(matrices.mass, tangent, n_modes, stats);
+      undamped_factor = {eigensolver.linear_solver().n_factorizations(), tangent_serial};
       // every mode below the first unconverged one was found
       while (found < modes.size() && modes[found].residual <= eigensolver.backward_error_limit())
         ++found;
@@ -336,7 +341,8 @@ namespace rotorfit
                   av_tangent2[i] -= convective[i];
               }
           }
-        p_tangent0 = reduced.project(tangent, &av_tangent);
+        p_tangent0        = reduced.project(tangent, &av_tangent);
+        av_tangent_serial = tangent_serial;
         p_tangent0.add(-state.w(), p_tangent2);
         w_tangent = state.w();
         key_tangent = tangent_key;

@@ -112,6 +112,21 @@ namespace rotorfit
     return c;
   }
 
+  std::vector<double>
+  ReducedBasis::coefficients(const std::vector<const Vector<double> *> &x) const
+  {
+    const int           n = rows, m = columns, k = x.size();
+    std::vector<double> c(std::size_t(m) * k, 0.);
+    if (m == 0 || k == 0)
+      return c;
+    std::vector<double> X(std::size_t(n) * k);
+    for (int j = 0; j < k; ++j)
+      std::copy(x[j]->begin(), x[j]->end(), X.begin() + std::size_t(j) * n);
+    const double one = 1, zero = 0;
+    dgemm_("T", "N", &m, &k, &n, &one, flat.data(), &n, X.data(), &n, &zero, c.data(), &m);
+    return c;
+  }
+
   bool
   ReducedBasis::add(const Vector<double> &x, const PETScWrappers::MPI::SparseMatrix &M)
   {
@@ -247,6 +262,22 @@ namespace rotorfit
     const int    n = P.size() / m, one = 1;
     const double plus = 1;
     dgemv_("T", &n, &m, &a, P.data(), &n, x.data(), &one, &plus, c.data(), &one);
+  }
+
+  void
+  ReducedBasis::apply_transpose(const std::vector<double> &P,
+                                const std::vector<double> &X,
+                                const double               a,
+                                std::vector<double>       &C) const
+  {
+    const int m = columns;
+    if (m == 0 || P.empty() || X.empty())
+      return;
+    const int n = P.size() / m, k = X.size() / n;
+    if (C.size() != std::size_t(m) * k)
+      C.assign(std::size_t(m) * k, 0.);
+    const double plus = 1;
+    dgemm_("T", "N", &m, &k, &n, &a, P.data(), &n, X.data(), &n, &plus, C.data(), &m);
   }
 
   FullMatrix<double>

@@ -135,7 +135,19 @@ namespace rotorfit
         (due || reduced.version() == gram_eager_version))
       {
         const auto t0 = std::chrono::steady_clock::now();
-        gram.g        = replicated_inverse_gram(eigensolver.linear_solver(), matrices.mass, gram.blocks);
+        // S^-1 K_t V = V - sigma^2 S^-1 M V where S is this tangent's
+        const auto at = [&](const std::vector<double> &P) {
+          return std::find(gram.blocks.begin(), gram.blocks.end(), &P) - gram.blocks.begin();
+        };
+        const bool same_tangent =
+          undamped_factor == std::make_pair(eigensolver.linear_solver().n_factorizations(),
+                                            av_tangent_serial) &&
+          at(av_mass) < at(av_tangent) && at(av_tangent) < std::ptrdiff_t(gram.blocks.size());
+        const GramShortcut shortcut{std::size_t(at(av_mass)), std::size_t(at(av_tangent)),
+                                    &reduced.matrix(),
+                                    -eigensolver.shift() * eigensolver.shift()};
+        gram.g = replicated_inverse_gram(eigensolver.linear_solver(), matrices.mass, gram.blocks,
+                                         same_tangent ? &shortcut : nullptr);
         gram.seconds  = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         gram.checked  = false;
       }

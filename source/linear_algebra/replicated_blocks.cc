@@ -63,6 +63,23 @@ namespace rotorfit
     ok(MatMPIAIJGetSeqAIJ(A, &Ad, &Ao, &colmap));
     PetscInt n_ghost;
     ok(MatGetSize(Ao, nullptr, &n_ghost));
+    if (n_ghost == 0 && n_local == n)
+      {
+        // one rank: the columns are the dense operands as they lie (leading
+        // dimension n), so nothing is copied, allocated or zeroed (fresh
+        // blocks of tens of MB cost their page faults at every product)
+        Mat X, Y;
+        ok(MatCreateSeqDense(PETSC_COMM_SELF, n, columns, const_cast<double *>(x), &X));
+        ok(MatCreateSeqDense(PETSC_COMM_SELF, n, columns, y, &Y));
+        ok(MatProductCreateWithMat(Ad, X, nullptr, Y));
+        ok(MatProductSetType(Y, MATPRODUCT_AB));
+        ok(MatProductSetFromOptions(Y));
+        ok(MatProductSymbolic(Y));
+        ok(MatProductNumeric(Y));
+        ok(MatDestroy(&X));
+        ok(MatDestroy(&Y));
+        return;
+      }
     // rows of X: the local ones for Ad, the ghost ones (colmap) for Ao
     const auto dense = [&](const PetscInt rows, const auto &row_of) {
       Mat          X;
@@ -128,6 +145,19 @@ namespace rotorfit
       const PetscInt n_local = range.second - range.first, n = layout.m();
       const MPI_Comm comm    = layout.get_mpi_communicator();
       Mat            B, X;
+      bool           flat = n_local == n; // one rank, columns one after another
+      for (PetscInt j = 1; j < m && flat; ++j)
+        flat = in(j) == in(0) + j * n && out(j) == out(0) + j * n;
+      if (flat)
+        {
+          // the arrays as they lie: nothing allocated, zeroed or copied
+          MatCreateDense(comm, n, PETSC_DECIDE, n, m, const_cast<double *>(&in(0)[0]), &B);
+          MatCreateDense(comm, n, PETSC_DECIDE, n, m, out(0), &X);
+          solver.solve(X, B);
+          MatDestroy(&B);
+          MatDestroy(&X);
+          return;
+        }
       MatCreateDense(comm, n_local, PETSC_DECIDE, n, m, nullptr, &B);
       MatCreateDense(comm, n_local, PETSC_DECIDE, n, m, nullptr, &X);
       PetscScalar *a;
@@ -174,7 +204,8 @@ namespace rotorfit
   std::vector<double>
   replicated_inverse_gram(const DirectSolver                             &solver,
                           const PETScWrappers::MPI::SparseMatrix         &layout,
-                          const std::vector<const std::vector<double> *> &blocks)
+                          const std::vector<const std::vector<double> *> &blocks,
+                          const GramShortcut                             *shortcut)
   {
     // the columns of all blocks in one numbering: block k holds columns
     // first[k] .. first[k + 1] - 1
@@ -184,10 +215,21 @@ namespace rotorfit
       first.push_back(first.back() + P->size() / n);
     const int           b = first.back();
     std::vector<double> G(std::size_t(b) * b, 0.), X;
+    const auto block_of = [&](const int j) {
+      return std::upper_bound(first.begin(), first.end(), j) - first.begin() - 1;
+    };
     const auto column = [&](const int j) {
-      const auto k = std::upper_bound(first.begin(), first.end(), j) - first.begin() - 1;
+      const auto k = block_of(j);
       return blocks[k]->data() + std::size_t(j - first[k]) * n;
     };
+    const bool use_shortcut = shortcut && shortcut->source < shortcut->target &&
+                              shortcut->target < blocks.size() &&
+                              first[shortcut->source + 1] - first[shortcut->source] ==
+                                first[shortcut->target + 1] - first[shortcut->target] &&
+                              shortcut->base->size() == blocks[shortcut->target]->size();
+    std::vector<double> kept_source; // A^-1 P_source, for the target's columns
+    if (use_shortcut)
+      kept_source.resize(blocks[shortcut->source]->size());
     // blocks of right-hand sides (a block's back-substitution costs about a
     // sixth of as many single ones on TS), each multiplied by every block
     constexpr int chunk = 32;
@@ -195,9 +237,29 @@ namespace rotorfit
       {
         const int c = std::min(chunk, b - start);
         X.resize(std::size_t(n) * c);
+        std::vector<int> solved, known;
+        for (int j = 0; j < c; ++j)
+          (use_shortcut && std::size_t(block_of(start + j)) == shortcut->target ? known : solved)
+            .push_back(j);
         solve_columns(
-          solver, layout, c, [&](const PetscInt j) { return column(start + j); },
-          [&](const PetscInt j) { return X.data() + std::size_t(j) * n; });
+          solver, layout, solved.size(), [&](const PetscInt i) { return column(start + solved[i]); },
+          [&](const PetscInt i) { return X.data() + std::size_t(solved[i]) * n; });
+        // (the source columns of this chunk first: they may be needed in it)
+        if (use_shortcut)
+          for (const int j : solved)
+            if (std::size_t(block_of(start + j)) == shortcut->source)
+              std::copy(X.begin() + std::size_t(j) * n, X.begin() + std::size_t(j + 1) * n,
+                        kept_source.begin() +
+                          std::size_t(start + j - first[shortcut->source]) * n);
+        for (const int j : known)
+          {
+            const std::size_t i = start + j - first[shortcut->target];
+            const double     *base = shortcut->base->data() + i * n,
+                         *source = kept_source.data() + i * n;
+            double *x = X.data() + std::size_t(j) * n;
+            for (int r = 0; r < n; ++r)
+              x[r] = base[r] + shortcut->factor * source[r];
+          }
         const double one = 1, zero = 0;
         for (std::size_t k = 0; k < blocks.size(); ++k)
           {

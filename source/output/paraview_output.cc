@@ -148,7 +148,7 @@ namespace rotorfit
     // series, rewritten each time so that an interrupted run keeps it
     const MPI_Comm    comm = model.mpi_communicator();
     DataOutBase::VtkFlags flags;
-    flags.compression_level = DataOutBase::VtkFlags::best_compression;
+    flags.compression_level = DataOutBase::VtkFlags::default_compression;
     data_out.set_flags(flags);
     const std::string name =
       data_out.write_vtu_with_pvtu_record(directory + "/", series, index, comm, 4, 0);

@@ -7,9 +7,15 @@
 #include <deal.II/base/timer.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+
+#include <spawn.h>
+#include <sys/wait.h>
+
+extern char **environ;
 
 namespace rotorfit
 {
@@ -287,15 +293,42 @@ namespace rotorfit
                             "campbell.png");
     if (with_modes && with_response)
       scripts.emplace_back("plot_response.py", "response_bode.png, response_polar.png");
-    for (const auto &[script, files] : scripts)
+    // the scripts run side by side (each its own python3 and matplotlib
+    // start-up, about half a second), each into its own log, appended to
+    // plot.log in order once all are done
+    std::vector<pid_t> children;
+    for (unsigned int i = 0; i < scripts.size(); ++i)
       {
+        const auto       &script  = scripts[i].first;
         const std::string command = std::string(ROTORFIT_PYTHON) + " " + ROTORFIT_SCRIPT_DIR +
                                     "/" + script.substr(0, script.find(' ')) + " '" + output_dir +
                                     "'" + (script.find(' ') == std::string::npos ?
                                              "" :
                                              script.substr(script.find(' '))) +
-                                    " >> '" + output_dir + "/plot.log' 2>&1";
-        if (std::system(command.c_str()) == 0)
+                                    " > '" + output_dir + "/plot." + std::to_string(i) +
+                                    ".log' 2>&1";
+        const char *argv[] = {"sh", "-c", command.c_str(), nullptr};
+        pid_t       pid    = -1;
+        if (posix_spawn(&pid, "/bin/sh", nullptr, nullptr, const_cast<char **>(argv), environ) != 0)
+          pid = -1;
+        children.push_back(pid);
+      }
+    std::ofstream plot_log(output_dir + "/plot.log", std::ios::app);
+    for (unsigned int i = 0; i < scripts.size(); ++i)
+      {
+        int status = -1;
+        if (children[i] > 0)
+          while (waitpid(children[i], &status, 0) < 0 && errno == EINTR)
+            ;
+        const std::string part = output_dir + "/plot." + std::to_string(i) + ".log";
+        {
+          std::ifstream in(part);
+          if (in && in.peek() != std::ifstream::traits_type::eof())
+            plot_log << in.rdbuf(); // (an empty one would set failbit)
+        }
+        std::filesystem::remove(part);
+        const auto &files = scripts[i].second;
+        if (children[i] > 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0)
           log << "Picture: " << output_dir << "/" << files << '\n';
         else
           log << "Warning: " << files << " could not be drawn (see " << output_dir

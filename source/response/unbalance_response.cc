@@ -266,10 +266,10 @@ namespace rotorfit
         Vector<double>     y(2 * k);
         if (h > 0)
           {
-            const std::vector<double> re = op.basis->coefficients(g.re),
-                                      im = op.basis->coefficients(g.im);
+            const std::vector<double> c = op.basis->coefficients(
+              std::vector<const Vector<double> *>{&g.re, &g.im});
             for (unsigned int i = 0; i < h; ++i)
-              y[i] = re[i], y[k + i] = im[i];
+              y[i] = c[i], y[k + i] = c[h + i];
           }
         for (unsigned int i = h; i < k; ++i)
           {
@@ -338,25 +338,36 @@ namespace rotorfit
                 dr[i][j] = (*op.Cr)(i, j);
                 kr[i][j] = (*op.Kr)(i, j);
               }
-        for (std::size_t j = std::max(old, h); j < k; ++j)
+        const std::size_t first = std::max(old, h);
+        if (h > 0 && first < k)
+          {
+            // V_h^T (A e), and e^T (A V_h) from the head's products, so that
+            // every entry rounds as the residual does; all new columns in one
+            // pass over each block
+            std::vector<const Vector<double> *> e_v, e_m, e_d, e_k;
+            for (std::size_t j = first; j < k; ++j)
+              {
+                e_v.push_back(&v[j - h]);
+                e_m.push_back(&mv[j - h]);
+                e_d.push_back(&dv[j - h]);
+                e_k.push_back(&kv[j - h]);
+              }
+            const std::vector<double> m_col = op.basis->coefficients(e_m),
+                                      d_col = op.basis->coefficients(e_d),
+                                      k_col = op.basis->coefficients(e_k);
+            std::vector<double> m_row, d_row, k_row;
+            op.row_products(e_v, m_row, d_row, k_row);
+            for (std::size_t j = first; j < k; ++j)
+              for (std::size_t i = 0, at = (j - first) * h; i < h; ++i, ++at)
+                {
+                  mr[i][j] = m_col[at], mr[j][i] = m_row[at];
+                  dr[i][j] = d_col[at], dr[j][i] = d_row[at];
+                  kr[i][j] = k_col[at], kr[j][i] = k_row[at];
+                }
+          }
+        for (std::size_t j = first; j < k; ++j)
           {
             const std::size_t e = j - h;
-            if (h > 0)
-              {
-                // V_h^T (A e), and e^T (A V_h) from the head's products, so
-                // that every entry rounds as the residual does
-                const std::vector<double> m_col = op.basis->coefficients(mv[e]),
-                                          d_col = op.basis->coefficients(dv[e]),
-                                          k_col = op.basis->coefficients(kv[e]);
-                std::vector<double> m_row, d_row, k_row;
-                op.row_products(v[e], m_row, d_row, k_row);
-                for (std::size_t i = 0; i < h; ++i)
-                  {
-                    mr[i][j] = m_col[i], mr[j][i] = m_row[i];
-                    dr[i][j] = d_col[i], dr[j][i] = d_row[i];
-                    kr[i][j] = k_col[i], kr[j][i] = k_row[i];
-                  }
-              }
             for (std::size_t i = h; i < k; ++i)
               {
                 const std::size_t c = i - h;
@@ -365,6 +376,18 @@ namespace rotorfit
                 kr[i][j] = v[c] * kv[e], kr[j][i] = v[e] * kv[c];
               }
           }
+      }
+
+      /// Take columns kept from an earlier speed on the same head (already
+      /// M-orthonormal to it and each other, @p mx their M products); their
+      /// products with this speed's D and K are made afresh.
+      void
+      adopt(const std::vector<Vector<double>> &x, const std::vector<Vector<double>> &mx)
+      {
+        v  = x;
+        mv = mx;
+        replicated_mmult(op.damping, pointers(v), dv);
+        replicated_mmult(op.stiffness, pointers(v), kv);
       }
 
       /// Orthogonalise the columns @p xs against the basis and each other
@@ -484,20 +507,42 @@ namespace rotorfit
     // is solved on its modes instead
     const auto attempt = [&](const PrestressedEigenproblem::SpeedOperators &o) {
       ProjectionBasis basis{o, {}, {}, {}, {}, {}, {}, {}};
-      // the speed's modes lie in the eigen reduced basis when it solved them
-      if (!o.basis)
-        for (const auto &p : modes)
-          basis.add({p.phi.re, p.phi.im});
-      // S^-1 F: F = Omega^2 F_0, so the direction of the latest
-      // factorisation's S^-1 F_0 (the real and imaginary parts in one pass
-      // over the factors), made once per factorisation
-      if (correction_factor != std::make_pair(&o.shifted_inverse, o.shifted_inverse.n_factorizations()))
+      // on the eigen reduced basis of the last speed: that speed's explicit
+      // columns (at most as many as a fresh start and four enrichments hold)
+      const std::pair<const ReducedBasis *, unsigned int> head{o.basis,
+                                                               o.basis ? o.basis->version() : 0};
+      const bool reuse = o.basis && head == kept_head && !kept.empty();
+      const auto keep  = [&](const bool ok) {
+        if (o.basis && ok && basis.v.size() <= 10)
+          {
+            kept      = basis.v;
+            kept_m    = basis.mv;
+            kept_head = head;
+          }
+        else if (o.basis)
+          kept_head = {nullptr, 0};
+        return ok;
+      };
+      if (reuse)
+        basis.adopt(kept, kept_m);
+      else
         {
-          const ComplexVector f0 = forcing();
-          replicated_solve(o.shifted_inverse, o.mass, {&f0.re, &f0.im}, static_correction);
-          correction_factor = {&o.shifted_inverse, o.shifted_inverse.n_factorizations()};
+          // the speed's modes lie in the eigen reduced basis when it solved them
+          if (!o.basis)
+            for (const auto &p : modes)
+              basis.add({p.phi.re, p.phi.im});
+          // S^-1 F: F = Omega^2 F_0, so the direction of the latest
+          // factorisation's S^-1 F_0 (the real and imaginary parts in one
+          // pass over the factors), made once per factorisation
+          if (correction_factor !=
+              std::make_pair(&o.shifted_inverse, o.shifted_inverse.n_factorizations()))
+            {
+              const ComplexVector f0 = forcing();
+              replicated_solve(o.shifted_inverse, o.mass, {&f0.re, &f0.im}, static_correction);
+              correction_factor = {&o.shifted_inverse, o.shifted_inverse.n_factorizations()};
+            }
+          basis.add(static_correction);
         }
-      basis.add(static_correction);
       std::vector<Vector<double>> x;
       double previous = std::numeric_limits<double>::infinity();
       for (unsigned int step = 0;; ++step)
@@ -507,9 +552,9 @@ namespace rotorfit
           out.residual   = std::sqrt(r.re.norm_sqr() + r.im.norm_sqr()) / f_norm;
           out.basis_size = basis.size();
           if (out.residual <= tolerance)
-            return true;
+            return keep(true);
           if (o.basis && !(out.residual < 0.5 * previous))
-            return false;
+            return keep(false);
           previous   = out.residual;
           bool grown = false;
           if (step < max_enrichment)
@@ -518,7 +563,7 @@ namespace rotorfit
               grown = basis.add(std::move(x));
             }
           if (!grown)
-            return false;
+            return keep(false);
         }
     };
     if (f_norm > 0)

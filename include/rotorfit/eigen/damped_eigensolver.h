@@ -293,10 +293,20 @@ namespace rotorfit
   /// column-major), A factorised by @p solver (LDL^T or LU): the inner
   /// products of the columns with A^-1, so that |(P x)^H A^-1 (P x)| =
   /// |x^H G x| needs no back-substitution (inverse_norm_sqr).
+  /// A block of replicated_inverse_gram() known without back-substitution:
+  /// A^-1 P_target = base + factor A^-1 P_source (source before target).
+  struct GramShortcut
+  {
+    std::size_t                source, target;
+    const std::vector<double> *base;
+    double                     factor;
+  };
+
   std::vector<double>
   replicated_inverse_gram(const DirectSolver                             &solver,
                           const dealii::PETScWrappers::MPI::SparseMatrix &layout,
-                          const std::vector<const std::vector<double> *> &blocks);
+                          const std::vector<const std::vector<double> *> &blocks,
+                          const GramShortcut                             *shortcut = nullptr);
 
   /// |x^H G x| for the real G of replicated_inverse_gram().
   double

@@ -139,11 +139,12 @@ namespace rotorfit
                          ComplexVector                           &Cu,
                          ComplexVector                           &Ku)>
         products;
-      /// (M V)^T x, (C V)^T x, (K_t V)^T x from the same products
-      std::function<void(const dealii::Vector<double> &x,
-                         std::vector<double>          &m_row,
-                         std::vector<double>          &c_row,
-                         std::vector<double>          &k_row)>
+      /// (M V)^T X, (C V)^T X, (K_t V)^T X (m x k, column-major) for the
+      /// columns X = [x_1 .. x_k] from the same products
+      std::function<void(const std::vector<const dealii::Vector<double> *> &x,
+                         std::vector<double>                               &m_rows,
+                         std::vector<double>                               &c_rows,
+                         std::vector<double>                               &k_rows)>
         row_products;
     };
     SpeedOperators
@@ -333,6 +334,12 @@ namespace rotorfit
     /// a reduced speed's residuals and the response are made of them
     std::vector<double> av_mass, av_gyro, av_tangent, av_tangent2, av_bearing_c;
     double              w_tangent = 0;
+    /// assemblies of the tangent so far, the one av_tangent was made of, and
+    /// (factorisation count, tangent) of the latest undamped anchor's S =
+    /// K_t + sigma^2 M: where both name the same tangent, S^-1 K_t V = V -
+    /// sigma^2 S^-1 M V spares the Gram matrix a fifth of its columns
+    unsigned int tangent_serial = 0, av_tangent_serial = ~0u;
+    std::pair<unsigned int, unsigned int> undamped_factor{~0u, ~0u};
     /// The residual blocks' Gram matrix in the S^-1 norm of the latest
     /// factorisation (replicated_inverse_gram): the error estimates of a
     /// basis that serves many speeds without a back-substitution per speed

@@ -114,6 +114,15 @@ namespace rotorfit
     /// V^T x.
     std::vector<double>
     coefficients(const dealii::Vector<double> &x) const;
+    /// V itself (n x m, column-major).
+    const std::vector<double> &
+    matrix() const
+    {
+      return flat;
+    }
+    /// V^T [x_1 .. x_k] (m x k, column-major): one pass over V for all.
+    std::vector<double>
+    coefficients(const std::vector<const dealii::Vector<double> *> &x) const;
 
     /// V^T A V; with @p products also A V (n x m, column-major).
     dealii::FullMatrix<double>
@@ -135,6 +144,13 @@ namespace rotorfit
                     const dealii::Vector<double> &x,
                     const double                  a,
                     std::vector<double>          &c) const;
+    /// C += a P^T X for the columns X (n x k, column-major; C m x k, set to
+    /// zero first if of another size): one pass over P for all columns.
+    void
+    apply_transpose(const std::vector<double> &P,
+                    const std::vector<double> &X,
+                    const double               a,
+                    std::vector<double>       &C) const;
 
     /// Eigenvalue, right and left reduced eigenvectors y, w (length m) of
     /// the dense problem: Q_r(lambda) y = 0, w^H Q_r(lambda) = 0.

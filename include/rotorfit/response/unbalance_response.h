@@ -156,6 +156,13 @@ namespace rotorfit
     /// correction_factor (solver, its factorisation count)
     std::vector<dealii::Vector<double>>          static_correction;
     std::pair<const DirectSolver *, unsigned int> correction_factor{nullptr, 0};
+    /// The explicit columns (static correction, enrichments) of the last
+    /// speed solved on the eigen reduced basis named by kept_head (basis,
+    /// its version), with their M products: the next speed on the same
+    /// basis starts from them (the response moves little from speed to
+    /// speed, so it rarely needs a new back-substitution)
+    std::vector<dealii::Vector<double>>             kept, kept_m;
+    std::pair<const ReducedBasis *, unsigned int>   kept_head{nullptr, 0};
     std::vector<ResponseAtSpeed> history;
     unsigned int                 unconverged_speeds = 0;
     unsigned int                 reduced_speeds     = 0; ///< solved on the eigen reduced basis
