@@ -63,7 +63,9 @@ namespace rotorfit
     ok(MatMPIAIJGetSeqAIJ(A, &Ad, &Ao, &colmap));
     PetscInt n_ghost;
     ok(MatGetSize(Ao, nullptr, &n_ghost));
-    if (n_ghost == 0 && n_local == n)
+    // (decided by the communicator, the same on every rank: the other path
+    // ends in a collective gather)
+    if (Utilities::MPI::n_mpi_processes(comm) == 1)
       {
         // one rank: the columns are the dense operands as they lie (leading
         // dimension n), so nothing is copied, allocated or zeroed (fresh
@@ -145,7 +147,8 @@ namespace rotorfit
       const PetscInt n_local = range.second - range.first, n = layout.m();
       const MPI_Comm comm    = layout.get_mpi_communicator();
       Mat            B, X;
-      bool           flat = n_local == n; // one rank, columns one after another
+      // one rank (the same decision on every rank), columns one after another
+      bool flat = Utilities::MPI::n_mpi_processes(comm) == 1;
       for (PetscInt j = 1; j < m && flat; ++j)
         flat = in(j) == in(0) + j * n && out(j) == out(0) + j * n;
       if (flat)
