@@ -154,7 +154,7 @@ namespace rotorfit
       if (flat)
         {
           // the arrays as they lie: nothing allocated, zeroed or copied
-          MatCreateDense(comm, n, PETSC_DECIDE, n, m, const_cast<double *>(&in(0)[0]), &B);
+          MatCreateDense(comm, n, PETSC_DECIDE, n, m, const_cast<double *>(in(0)), &B);
           MatCreateDense(comm, n, PETSC_DECIDE, n, m, out(0), &X);
           solver.solve(X, B);
           MatDestroy(&B);

@@ -326,7 +326,8 @@ namespace rotorfit
           if (in && in.peek() != std::ifstream::traits_type::eof())
             plot_log << in.rdbuf(); // (an empty one would set failbit)
         }
-        std::filesystem::remove(part);
+        std::error_code ignored; // (finish() never throws)
+        std::filesystem::remove(part, ignored);
         const auto &files = scripts[i].second;
         if (children[i] > 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0)
           log << "Picture: " << output_dir << "/" << files << '\n';

@@ -520,7 +520,11 @@ namespace rotorfit
             kept_head = head;
           }
         else if (o.basis)
-          kept_head = {nullptr, 0};
+          {
+            kept.clear();
+            kept_m.clear();
+            kept_head = {nullptr, 0};
+          }
         return ok;
       };
       if (reuse)

@@ -288,11 +288,6 @@ namespace rotorfit
                    const std::vector<const dealii::Vector<double> *> &b,
                    std::vector<dealii::Vector<double>>               &x);
 
-  /// G = P^T A^-1 P (column-major, the same on every rank) for
-  /// the replicated columns of the blocks P = [P_1 .. P_b] (each n x m_k,
-  /// column-major), A factorised by @p solver (LDL^T or LU): the inner
-  /// products of the columns with A^-1, so that |(P x)^H A^-1 (P x)| =
-  /// |x^H G x| needs no back-substitution (inverse_norm_sqr).
   /// A block of replicated_inverse_gram() known without back-substitution:
   /// A^-1 P_target = base + factor A^-1 P_source (source before target).
   struct GramShortcut
@@ -302,6 +297,12 @@ namespace rotorfit
     double                     factor;
   };
 
+  /// G = P^T A^-1 P (column-major, the same on every rank) for
+  /// the replicated columns of the blocks P = [P_1 .. P_b] (each n x m_k,
+  /// column-major), A factorised by @p solver (LDL^T or LU): the inner
+  /// products of the columns with A^-1, so that |(P x)^H A^-1 (P x)| =
+  /// |x^H G x| needs no back-substitution (inverse_norm_sqr). With
+  /// @p shortcut its target block's columns are not back-substituted.
   std::vector<double>
   replicated_inverse_gram(const DirectSolver                             &solver,
                           const dealii::PETScWrappers::MPI::SparseMatrix &layout,
