@@ -232,7 +232,7 @@ def ccx_deck(path, model, refs, supports, rpm):
 
 # ---------------------------------------------------------------- timing
 def timed(cmd, cwd, log, env=None):
-    """Wall time [s] and peak resident memory [GB] of one command."""
+    """Wall time [s] and peak resident memory [GiB, 2^30 bytes: time -v's KiB / 1024^2] of one command."""
     t0 = time.time()
     with open(log, "w") as out:
         p = subprocess.run(["/usr/bin/time", "-v"] + cmd, cwd=cwd, env=env,
@@ -380,7 +380,7 @@ def main():
             mems.append(mem)
         ccx[rpm] = (statistics.median(walls), max(mems),
                     read_ccx_complex(os.path.join(work, job + ".dat")))
-        print("CalculiX %6.0f r/min: %.1f s (median of %d), %.2f GB" %
+        print("CalculiX %6.0f r/min: %.1f s (median of %d), %.2f GiB" %
               (rpm, ccx[rpm][0], 0 if args.reuse else args.runs,
                ccx[rpm][1]))
 
@@ -400,7 +400,7 @@ def main():
     out = os.path.join(work, "rotorfit_same")
     cmd = undamped(out, speeds)
     wall, mem = timed(cmd, ROOT, os.path.join(work, "rotorfit_same.log"))
-    print("rotorfit, the same %d speeds: %.1f s, %.2f GB" %
+    print("rotorfit, the same %d speeds: %.1f s, %.2f GiB" %
           (len(speeds), wall, mem))
     rf = read_campbell(os.path.join(out, "campbell.csv"))
 
@@ -460,11 +460,11 @@ def main():
         out = os.path.join(work, "rotorfit_main")
         main_job = timed([rotorfit, prm, "--output", out] + common, ROOT,
                          os.path.join(work, "rotorfit_main.log"))
-        print("rotorfit main job (31 speeds): %.1f s, %.2f GB" % main_job)
+        print("rotorfit main job (31 speeds): %.1f s, %.2f GiB" % main_job)
 
     with open(os.path.join(work, "calculix_ts.md"), "w") as f:
         walls = [ccx[rpm][0] for rpm in speeds]
-        f.write("| run | wall [s] | peak memory [GB] |\n|---|---|---|\n")
+        f.write("| run | wall [s] | peak memory [GiB] |\n|---|---|---|\n")
         f.write("| CalculiX, one speed (median over %d speeds, min %.1f, "
                 "max %.1f) | %.1f | %.2f |\n" %
                 (len(speeds), min(walls), max(walls),

@@ -841,9 +841,12 @@ def check_reduced(exe, prm, out, freq_tol, zeta_tol, *sets):
     observed differences (above their 1e-9 print resolution). With the
     word "gram" among SETS the reduced run must have made the error
     estimates' Gram matrix (doc/theory.md 8.6); every one made must agree
-    with the back-substituted estimates within 1e-2 (two code paths)."""
+    with the back-substituted estimates within 1e-2 (two code paths). With
+    "tie_update" it must have served anchors on a low-rank update of an
+    earlier LDL^T (doc/theory.md 8.7)."""
     need_gram = "gram" in sets
-    sets = [x for x in sets if x != "gram"]
+    need_update = "tie_update" in sets
+    sets = [x for x in sets if x not in ("gram", "tie_update")]
     full, red = os.path.join(out, "full"), os.path.join(out, "reduced")
     run_test.run(exe, prepare(prm, full, [*sets, "Eigenproblem/Reduced model=false"]))
     run_test.run(exe, prepare(prm, red, [*sets, "Eigenproblem/Reduced model=true"]))
@@ -863,6 +866,11 @@ def check_reduced(exe, prm, out, freq_tol, zeta_tol, *sets):
     print(f"Reduced anchors = {kind}: {undamped} undamped anchors served their speed, {refused} "
           f"refused", "ok" if good else "FAILED")
     ok &= good
+    if need_update:
+        updated = summary_number(red, "eigen.undamped_anchors_on_tie_updates") or 0
+        print(f"anchors on tie updates of an earlier LDL^T: {updated}",
+              "ok" if updated > 0 else "FAILED")
+        ok &= updated > 0
     # the estimates from the Gram matrix of the residual blocks, checked by
     # the run against back-substitutions where each is made
     grams = summary_number(red, "eigen.estimate_gram_matrices") or 0

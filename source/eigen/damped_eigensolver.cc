@@ -480,7 +480,8 @@ namespace rotorfit
   DampedEigensolver::solve_undamped(const PETScWrappers::MPI::SparseMatrix &M,
                                     PETScWrappers::MPI::SparseMatrix       &K,
                                     const unsigned int                      n_modes,
-                                    Statistics                             &stats)
+                                    Statistics                             &stats,
+                                    const bool                              factorize)
   {
     const std::size_t n = M.m();
     using clock         = std::chrono::steady_clock;
@@ -491,18 +492,21 @@ namespace rotorfit
     // S = K + sigma^2 M: symmetric (LDL^T, about half the LU's time and
     // memory) and regular with free bodies for the same reason as Q(sigma)
     // (formed in K's storage, as in factorize())
-    add_subset(K, sigma * sigma, M);
-    solver.set_type(DirectSolver::Type::mumps_cholesky);
-    try
+    if (factorize)
       {
-        solver.factorize(K);
-      }
-    catch (...)
-      {
+        add_subset(K, sigma * sigma, M);
+        solver.set_type(DirectSolver::Type::mumps_cholesky);
+        try
+          {
+            solver.factorize(K);
+          }
+        catch (...)
+          {
+            add_subset(K, -sigma * sigma, M);
+            throw;
+          }
         add_subset(K, -sigma * sigma, M);
-        throw;
       }
-    add_subset(K, -sigma * sigma, M);
     stats                       = Statistics();
     stats.factorization_seconds = seconds(t0);
     t0                          = clock::now();

@@ -205,6 +205,7 @@ namespace rotorfit
     }
     matrices.reinit(model.locally_owned_dofs(), sparsity, comm, &component);
     matrices.reinit_like(tangent);
+    made_for = {};
     bearings.add_sparsity(component);
     damping.reinit(model.locally_owned_dofs(), model.locally_owned_dofs(), component, comm);
     // the bearing matrices on their stations' blocks alone (a subset of the
@@ -354,6 +355,29 @@ namespace rotorfit
   {
     TimerOutput::Scope t(timer, "eigen: tangent (K_sigma, ties, bearings)");
     ++tangent_serial;
+    const double w = state.w(), omega = SpeedSchedule::rpm_to_rad_per_s(state.rpm);
+    // on the last tangent's contact segment (the same ties, K_sigma parts
+    // and bearing coefficients) only the speed's own share changes:
+    // K_t += (w - w_t) K_t2, C += (Omega - Omega_t) G, two passes over a
+    // pattern instead of six (a fifth of a reduced speed on TS)
+    const bool same_segment =
+      made_for.valid && tied == made_for.tied && !bearings.speed_dependent() &&
+      (stiffening == StressStiffening::off ||
+       (state.decomposition().affine && state.decomposition().serial == k_sigma_serial));
+    if (same_segment)
+      {
+        if (stiffening == StressStiffening::full)
+          {
+            add_subset(tangent, w - made_for.w, k_sigma_C);
+            if (convective_term && !convective_folded)
+              add_subset(tangent, made_for.w - w, matrices.convective);
+          }
+        add_subset(damping, omega - made_for.omega, matrices.gyroscopic);
+        made_for.w     = w;
+        made_for.omega = omega;
+        return;
+      }
+    made_for = {true, tied, w, omega};
     if (bearings.speed_dependent() || speeds_done == 0)
       {
         bearing_k = 0;
@@ -368,7 +392,6 @@ namespace rotorfit
     add_subset(tangent, 1., bearing_k);
     if (stiffening == StressStiffening::full)
       {
-        const double w = state.w();
         if (state.decomposition().affine)
           add_subset(tangent, w, k_sigma_C);
         if (convective_term && !convective_folded) // (folded: in k_sigma_C)
@@ -379,7 +402,7 @@ namespace rotorfit
 
     // C = C_b + Omega G
     damping = 0;
-    add_subset(damping, SpeedSchedule::rpm_to_rad_per_s(state.rpm), matrices.gyroscopic);
+    add_subset(damping, omega, matrices.gyroscopic);
     add_subset(damping, 1., bearing_c);
   }
 

@@ -159,7 +159,8 @@ namespace rotorfit
 
   void
   PrestressedEigenproblem::add_directions(const std::vector<const Vector<double> *> &all_parts,
-                                          const bool bearing_damping)
+                                          const bool bearing_damping,
+                                          const bool gyroscopic)
   {
     const bool stiffening_moves = stiffening == StressStiffening::full;
     for (std::size_t first = 0; first < all_parts.size(); first += modes_per_block)
@@ -168,7 +169,8 @@ namespace rotorfit
           all_parts.begin() + first,
           all_parts.begin() + std::min(all_parts.size(), first + modes_per_block));
         std::vector<Vector<double>> g, k2, cb, theta;
-        replicated_mmult(matrices.gyroscopic, parts, g);
+        if (gyroscopic)
+          replicated_mmult(matrices.gyroscopic, parts, g);
         if (stiffening_moves)
           {
             replicated_mmult(k_sigma_C, parts, k2);
@@ -184,7 +186,8 @@ namespace rotorfit
         std::vector<Vector<double>> products;
         for (std::size_t i = 0; i < parts.size(); ++i)
           {
-            products.push_back(std::move(g[i]));
+            if (gyroscopic)
+              products.push_back(std::move(g[i]));
             if (stiffening_moves)
               products.push_back(std::move(k2[i]));
             if (bearing_damping && cb[i].l2_norm() > 0) // undamped bearings: nothing to add
@@ -194,6 +197,62 @@ namespace rotorfit
         replicated_solve(eigensolver.linear_solver(), matrices.mass, pointers(products), found);
         reduced.add(pointers(found), matrices.mass);
       }
+  }
+
+  bool
+  PrestressedEigenproblem::tie_update(const StaticState                       &state,
+                                      const std::vector<bool>                 &tied,
+                                      std::vector<DirectSolver::UpdateColumn> &columns) const
+  {
+    columns.clear();
+    const auto &solver = eigensolver.linear_solver();
+    if (!solver.factorized() || solver.n_factorizations() != factor_ties.factorizations)
+      return false;
+    // a fit that lets go of its last tie frees a body: its rigid motions
+    // then rest on sigma^2 M alone, some 1e14 below the ties' springs, more
+    // than the Woodbury sum keeps (TS at the loss of fit: no mode converged)
+    const auto &pair_list = model.pairs();
+    for (unsigned int f = 0; f < pair_list.n_interfaces(); ++f)
+      {
+        bool then = false, now = false;
+        for (const unsigned int p : pair_list.pairs_of(f))
+          then |= factor_ties.eps[p] > 0, now |= tied[p];
+        if (then && !now)
+          return false;
+      }
+    // the springs add_contact_ties() puts in: eps n n^T on the radial
+    // direction (frictionless), eps in every direction (bonded), on the
+    // relative motion of the pair's hub and shaft nodes
+    const auto  &list        = model.pairs().pairs();
+    const double scale       = contact_scale / state.penalty_scale();
+    const bool   normal_only = contact_model == ContactModel::frictionless;
+    for (unsigned int i = 0; i < list.size(); ++i)
+      {
+        const double now    = tied[i] ? state.pair_penalty(i) * scale : 0.;
+        const double spring = now - factor_ties.eps[i];
+        if (spring == 0)
+          continue;
+        const auto &p = list[i];
+        for (unsigned int d = 0; d < (normal_only ? 1u : 3u); ++d)
+          {
+            DirectSolver::UpdateColumn u;
+            u.key    = 3 * i + d;
+            u.spring = spring;
+            for (unsigned int a = 0; a < 3; ++a)
+              {
+                const double v = normal_only ? (a < 2 ? p.normal[a] : 0.) : (a == d ? 1. : 0.);
+                if (v != 0)
+                  {
+                    u.entries.emplace_back(p.hub_dofs[a], v);
+                    u.entries.emplace_back(p.shaft_dofs[a], -v);
+                  }
+              }
+            columns.push_back(std::move(u));
+          }
+        if (columns.size() > reduced.tie_update_limit())
+          return false;
+      }
+    return !columns.empty();
   }
 
   void
@@ -211,10 +270,27 @@ namespace rotorfit
                                            const unsigned int       nev,
                                            const bool               lasting,
                                            EigenSolution           &solution,
-                                           std::string             &why)
+                                           std::string             &why,
+                                           const bool               on_update)
   {
     const auto t0 = std::chrono::steady_clock::now();
     free_products(); // stale for the new basis, and the factorisation is the peak
+    // on the last LDL^T: the ties changed since as a low-rank update
+    std::size_t springs = 0;
+    double      update_seconds = 0;
+    if (on_update)
+      {
+        TimerOutput::Scope                      t(timer, "eigen: undamped anchor");
+        std::vector<DirectSolver::UpdateColumn> columns;
+        if (!tie_update(state, solution.tied, columns) ||
+            !eigensolver.update_factorization(columns))
+          {
+            why = "the low-rank update of the ties failed (its capacitance matrix is singular)";
+            return false;
+          }
+        springs        = columns.size();
+        update_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      }
     // as many modes as the damped anchor's whirl pairs (each undamped mode
     // is one line, FW or BW) and zero modes, with the margin
     const unsigned int zeros   = (nev - 1) / 2 - n_wanted;
@@ -224,8 +300,25 @@ namespace rotorfit
     std::size_t                                  found = 0;
     {
       TimerOutput::Scope t(timer, "eigen: undamped anchor");
-      modes = eigensolver.solve_undamped(matrices.mass, tangent, n_modes, stats);
-      undamped_factor = {eigensolver.linear_solver().n_factorizations(), tangent_serial};
+      modes = eigensolver.solve_undamped(matrices.mass, tangent, n_modes, stats, !on_update);
+      if (on_update)
+        {
+          // S of another tangent plus the ties: no Gram shortcut, and other
+          // speeds' anchors update the same factorisation
+          undamped_factor       = {~0u, ~0u};
+          stats.factorization_seconds = update_seconds;
+        }
+      else
+        {
+          undamped_factor = {eigensolver.linear_solver().n_operators(), tangent_serial};
+          const auto  &list  = model.pairs().pairs();
+          const double scale = contact_scale / state.penalty_scale();
+          factor_ties        = {eigensolver.linear_solver().n_factorizations(), state.rpm,
+                                std::vector<double>(list.size(), 0.)};
+          for (unsigned int i = 0; i < list.size(); ++i)
+            if (solution.tied[i])
+              factor_ties.eps[i] = state.pair_penalty(i) * scale;
+        }
       // every mode below the first unconverged one was found
       while (found < modes.size() && modes[found].residual <= eigensolver.backward_error_limit())
         ++found;
@@ -239,7 +332,7 @@ namespace rotorfit
         }
       const unsigned int per_mode =
         lasting ? 3 + (stiffening == StressStiffening::full ? 1 : 0) + (bearings.size() > 0 ? 1 : 0) :
-                  3;
+                  3 + (on_update && stiffening == StressStiffening::full ? 1 : 0);
       if (reduced.size() + per_mode * found > reduced.capacity(per_mode * found))
         reduced.clear();
       std::vector<const Vector<double> *> parts;
@@ -251,6 +344,8 @@ namespace rotorfit
       // speed's C, below)
       if (lasting)
         add_directions(parts, true);
+      else if (on_update && stiffening == StressStiffening::full)
+        add_directions(parts, false, false); // (S is of another speed's stiffening)
       // S^-1 C phi, and S^-1 M S^-1 C phi with this speed's C = C_b + Omega G. S^-1 weighs
       // a mode j above the basis by 1 / (mu_j + sigma^2) where the change of
       // mode i needs 1 / (mu_j - mu_i) = sum_k (mu_i + sigma^2)^k /
@@ -279,7 +374,11 @@ namespace rotorfit
     const double sigma  = eigensolver.shift();
     const double omega  = SpeedSchedule::rpm_to_rad_per_s(state.rpm);
     const double top    = std::sqrt(std::max(0., modes[found - 1].mu) + sigma * sigma);
-    reduced.anchors.push_back({state.rpm, top - reduced.slope_bound() * omega});
+    // on an update the modes are those of the factorised speed's stiffening:
+    // the lines may have moved by the slope bound since that speed as well
+    const double since =
+      on_update ? std::abs(omega - SpeedSchedule::rpm_to_rad_per_s(factor_ties.rpm)) : 0.;
+    reduced.anchors.push_back({state.rpm, top - reduced.slope_bound() * (omega + since)});
     if (lasting)
       gram_eager_version = reduced.version();
     double residual = 0;
@@ -297,9 +396,13 @@ namespace rotorfit
       line << "Lanczos " << stats.requested << " of " << stats.krylov_size << ", "
            << stats.iterations << " restarts, " << stats.operator_applications << " solves"
            << (stats.fallback.empty() ? "" : " (" + stats.fallback + ")");
-    line << "; basis " << reduced.size() << "; "
-        << std::setprecision(3) << stats.factorization_seconds << " s LDL^T, "
-        << stats.arnoldi_seconds << " s Lanczos ("
+    line << "; basis " << reduced.size() << "; " << std::setprecision(3);
+    if (on_update)
+      line << springs << " tie springs updating the LDL^T of " << factor_ties.rpm
+           << " r/min in " << stats.factorization_seconds << " s, ";
+    else
+      line << stats.factorization_seconds << " s LDL^T, ";
+    line << stats.arnoldi_seconds << " s Lanczos ("
         << stats.solve_seconds << " s back-substitutions), "
         << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()
         << " s in all\n";
@@ -409,8 +512,21 @@ namespace rotorfit
       lambda.push_back(all[k].lambda);
     reduced.multiply(nullptr, y, 1., column_pointers(v));
     reduced.multiply(&av_mass, y, 1., column_pointers(mv));
-    std::vector<ComplexVector> residual = residuals(y, lambda, omega, state.w(), false);
-    const BackwardError        backward_error(matrices.mass, damping, tangent);
+    const BackwardError backward_error(matrices.mass, damping, tangent);
+    // the right residuals' norms from the Euclidean Gram matrix of the
+    // residual blocks where the basis has one and its estimates need no
+    // back-substitution (no n-long residual vectors: a third of a reduced
+    // speed on TS); checked once against the vectors, at its first speed
+    const bool gram_norms = checked && !gram.e.empty() && !gram.e_refused && !gram.g.empty() &&
+                            gram.checked; // (prepare_gram above: the speed's key)
+    std::vector<double> norm_r(picked.size(), 0.);
+    if (gram_norms)
+      for (std::size_t i = 0; i < picked.size(); ++i)
+        norm_r[i] = std::sqrt(inverse_norm_sqr(
+          gram.e, residual_coefficients(y[i], lambda[i], omega, state.w(), false, gram.blocks)));
+    std::vector<ComplexVector> residual;
+    if (!gram_norms || !gram.e_checked)
+      residual = residuals(y, lambda, omega, state.w(), false);
     std::vector<EigenPair>     pairs;
     std::vector<bool>          usable(picked.size());
     std::vector<double>        scale(picked.size());
@@ -421,12 +537,28 @@ namespace rotorfit
         usable[i] = scale[i] > 0;
         if (usable[i])
           {
-            for (ComplexVector *z : {&v[i], &mv[i], &residual[i]})
+            for (ComplexVector *z : {&v[i], &mv[i]})
               z->re /= scale[i], z->im /= scale[i];
+            if (!residual.empty())
+              residual[i].re /= scale[i], residual[i].im /= scale[i];
+            norm_r[i] /= scale[i];
             for (std::size_t j = 0; j < sum.size(); ++j)
               sum[j] += y[i][j] / scale[i];
           }
       }
+    // a mode near the Backward error limit is judged on its vector
+    if (residual.empty())
+      for (std::size_t i = 0; i < picked.size(); ++i)
+        if (usable[i] && !(backward_error.from_norm(lambda[i], 1., norm_r[i]) <=
+                           1e-2 * eigensolver.backward_error_limit()))
+          {
+            residual = residuals(y, lambda, omega, state.w(), false);
+            for (std::size_t j = 0; j < picked.size(); ++j)
+              if (usable[j])
+                residual[j].re /= scale[j], residual[j].im /= scale[j];
+            break;
+          }
+    double gram_norm_difference = 0;
     // the products are checked against this speed's sparse matrices on one
     // combination of the modes: the checks on the full matrices rest on them
     std::ostringstream reason;
@@ -445,9 +577,30 @@ namespace rotorfit
         p.phi    = std::move(v[i]);
         p.m_phi  = std::move(mv[i]);
         if (checked)
-          p.backward_error = backward_error.from_residual(p.lambda, p.phi, residual[i]);
+          p.backward_error = residual.empty() ?
+                               backward_error.from_norm(p.lambda, 1., norm_r[i]) :
+                               backward_error.from_residual(p.lambda, p.phi, residual[i]);
+        if (gram_norms && !residual.empty())
+          gram_norm_difference = std::max(
+            gram_norm_difference,
+            std::abs(backward_error.from_norm(p.lambda, 1., norm_r[i]) - p.backward_error) /
+              std::max(p.backward_error, gram_floor / gram_agreement));
         radius = std::max(radius, std::abs(p.lambda - sigma));
         pairs.push_back(std::move(p));
+      }
+
+    if (gram_norms && !gram.e_checked)
+      {
+        gram.e_checked = true;
+        gram.e_refused = !(gram_norm_difference <= gram_agreement);
+        gram_norms_worst_difference = std::max(gram_norms_worst_difference, gram_norm_difference);
+        std::ostringstream line;
+        line << "  eigen: residual norms from the Gram matrix of the blocks differ from the "
+                "vectors' by "
+             << std::setprecision(2) << gram_norm_difference
+             << (gram.e_refused ? ": not used (the residual vectors stay on this basis)" : "")
+             << '\n';
+        log << line.str();
       }
 
     // a mode outside the basis (beyond the anchor's radius) moves at most
@@ -492,7 +645,7 @@ namespace rotorfit
               return all[k].lambda == solution.elastic[i].lambda;
             }) - picked.begin();
             dense.push_back(&all[picked[j]]);
-            r.push_back(&residual[j]);
+            r.push_back(residual.empty() ? nullptr : &residual[j]);
             scales.push_back(scale[j]);
           }
         const std::vector<double> estimate =

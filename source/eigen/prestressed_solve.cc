@@ -149,6 +149,22 @@ namespace rotorfit
           }
         if (reduced.undamped_anchors() && symmetric)
           {
+            // on the last LDL^T where few ties changed since (a fit opening
+            // pair by pair), else on a new one
+            std::vector<DirectSolver::UpdateColumn> columns;
+            if (reduced.tie_update_limit() > 0 && tie_update(state, solution.tied, columns))
+              {
+                if (anchor_undamped(state, loose_body, nev, margin_pays, solution, why, true))
+                  {
+                    ++updated_anchors;
+                    served(undamped_served);
+                    return solution;
+                  }
+                ++updated_anchors_refused;
+                log << "  eigen: undamped anchor on the tie update refused at " << state.rpm
+                    << " r/min (" << why << "): a new LDL^T\n";
+                reduced.clear(); // (its vectors and coverage are of the update's S)
+              }
             if (anchor_undamped(state, loose_body, nev, margin_pays, solution, why))
               {
                 served(undamped_served);
@@ -418,6 +434,8 @@ namespace rotorfit
     summary.add("eigen.reduced_root_trials", reduced_trials);
     summary.add("eigen.undamped_anchors", undamped_served);
     summary.add("eigen.undamped_anchors_refused", undamped_refused);
+    summary.add("eigen.undamped_anchors_on_tie_updates", updated_anchors);
+    summary.add("eigen.tie_update_anchors_refused", updated_anchors_refused);
     // (an undamped anchor's speed is a reduced solve with the same checks)
     const bool any_reduced = reduced_solves + undamped_served > 0;
     if (any_reduced)
@@ -426,6 +444,7 @@ namespace rotorfit
         summary.add("eigen.reduced_worst_product_mismatch", reduced_worst_products, 12);
         summary.add("eigen.estimate_gram_matrices", gram_builds);
         summary.add("eigen.estimate_gram_worst_difference", gram_worst_difference, 12);
+        summary.add("eigen.residual_norm_gram_worst_difference", gram_norms_worst_difference, 12);
       }
     summary.add("eigen.workspace_retries", eigensolver.linear_solver().n_workspace_retries());
     summary.add("eigen.factorizations", eigensolver.linear_solver().n_factorizations());
@@ -433,7 +452,8 @@ namespace rotorfit
                 eigensolver.linear_solver().n_reused_analyses());
     log << "Eigenproblem: " << speeds_done << " speeds (" << full_solves << " full, "
         << reduced_solves << " on the reduced model, " << reduced_refusals
-        << " refused by it; " << undamped_served << " on undamped anchors, "
+        << " refused by it; " << undamped_served << " on undamped anchors (" << updated_anchors
+        << " on tie updates of an earlier LDL^T), "
         << undamped_refused << " refused by them; " << reduced_trials
         << " unchecked root-solve trials on it), "
         << eigensolver.linear_solver().n_factorizations()

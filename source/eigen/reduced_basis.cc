@@ -63,6 +63,18 @@ namespace rotorfit
                       "(damped) where they fail. damped: the full damped solve (LU of "
                       "Q(sigma), Arnoldi) at every anchor. Cross-coupled bearings "
                       "(k_xy != k_yx) always take the damped one.");
+    prm.declare_entry("Reduced anchor tie updates",
+                      "256",
+                      Patterns::Integer(0),
+                      "Where a new contact segment needs an undamped anchor and its "
+                      "ties differ from those of the last LDL^T of K_t + sigma^2 M "
+                      "by at most this many tie springs (a pair opened or closed: "
+                      "one spring, three on a bonded fit), the anchor solves on "
+                      "that factorisation with a low-rank (Woodbury) update of the "
+                      "changed ties instead of a new one (doc/theory.md 8.7): one "
+                      "back-substitution per spring and n x springs numbers of "
+                      "memory. Refused anchors are made again on a new LDL^T. "
+                      "0: a new LDL^T for every anchor.");
     prm.leave_subsection();
   }
 
@@ -75,6 +87,7 @@ namespace rotorfit
     extra_modes        = prm.get_integer("Reduced margin modes");
     max_slope          = prm.get_double("Reduced slope bound");
     undamped           = prm.get("Reduced anchors") == "undamped";
+    max_tie_updates    = prm.get_integer("Reduced anchor tie updates");
     prm.leave_subsection();
   }
 

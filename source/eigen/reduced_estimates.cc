@@ -127,7 +127,7 @@ namespace rotorfit
   PrestressedEigenproblem::prepare_gram(const bool due)
   {
     const auto key = std::make_tuple(reduced.version(), key_tangent.k_sigma, key_tangent.rpm,
-                                     key_bearing.rpm, eigensolver.linear_solver().n_factorizations());
+                                     key_bearing.rpm, eigensolver.linear_solver().n_operators());
     if (gram.key != key)
       gram = ResidualGram{{}, residual_blocks(), key};
     // (its rounding floor stays far below the tolerance)
@@ -140,7 +140,7 @@ namespace rotorfit
           return std::find(gram.blocks.begin(), gram.blocks.end(), &P) - gram.blocks.begin();
         };
         const bool same_tangent =
-          undamped_factor == std::make_pair(eigensolver.linear_solver().n_factorizations(),
+          undamped_factor == std::make_pair(eigensolver.linear_solver().n_operators(),
                                             av_tangent_serial) &&
           at(av_mass) < at(av_tangent) && at(av_tangent) < std::ptrdiff_t(gram.blocks.size());
         const GramShortcut shortcut{std::size_t(at(av_mass)), std::size_t(at(av_tangent)),
@@ -148,6 +148,7 @@ namespace rotorfit
                                     -eigensolver.shift() * eigensolver.shift()};
         gram.g = replicated_inverse_gram(eigensolver.linear_solver(), matrices.mass, gram.blocks,
                                          same_tangent ? &shortcut : nullptr);
+        gram.e = replicated_gram(gram.blocks, matrices.mass.m(), comm);
         gram.seconds  = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         gram.checked  = false;
       }
@@ -207,10 +208,8 @@ namespace rotorfit
     // products on the sum of the left vectors agree (not so with
     // cross-coupled bearings: then the sparse products for each)
     const bool kept = expanded({sum}, omega, w, true).mismatch(backward_error, true) <= product_tolerance;
-    std::vector<ComplexVector> s;
-    if (kept)
-      s = residuals(left, lambda, omega, w, true);
-    else
+    std::vector<ComplexVector> s; // (from the kept products only where back-substituted, below)
+    if (!kept)
       {
         Expanded y = expanded(left, omega, w, true);
         s.resize(modes.size());
@@ -265,6 +264,25 @@ namespace rotorfit
     else
       gram.spent += rhs_count;
 
+    // the vectors of both residuals where the reduced solve made none
+    if (kept)
+      s = residuals(left, lambda, omega, w, true);
+    std::vector<ComplexVector>         own;
+    std::vector<const ComplexVector *> right(residual);
+    if (std::find(right.begin(), right.end(), nullptr) != right.end())
+      {
+        std::vector<std::vector<std::complex<double>>> y;
+        for (std::size_t k = 0; k < dense.size(); ++k)
+          {
+            y.push_back(dense[k]->y);
+            for (auto &c : y.back())
+              c /= scale[k];
+          }
+        own = residuals(y, lambda, omega, w, false);
+        for (std::size_t k = 0; k < right.size(); ++k)
+          right[k] = &own[k];
+      }
+
     // back-substituted for six modes at a time: the right-hand
     // sides, the solutions and MUMPS's copy of them are then 3 x 24 columns
     // instead of 3 x 48, at the memory peak of a run
@@ -274,7 +292,7 @@ namespace rotorfit
         const std::size_t                   end = std::min(modes.size(), first + modes_per_solve);
         std::vector<const Vector<double> *> rhs;
         for (std::size_t k = first; k < end; ++k)
-          rhs.insert(rhs.end(), {&residual[k]->re, &residual[k]->im, &s[k].re, &s[k].im});
+          rhs.insert(rhs.end(), {&right[k]->re, &right[k]->im, &s[k].re, &s[k].im});
         std::vector<Vector<double>> t;
         replicated_solve(eigensolver.linear_solver(), matrices.mass, rhs, t);
         for (std::size_t k = first; k < end; ++k)
@@ -282,7 +300,7 @@ namespace rotorfit
             const std::size_t   j = 4 * (k - first);
             const ComplexVector tr{std::move(t[j]), std::move(t[j + 1])},
               ts{std::move(t[j + 2]), std::move(t[j + 3])};
-            estimate[k] = ratio(k, std::sqrt(std::abs(dot(*residual[k], tr))),
+            estimate[k] = ratio(k, std::sqrt(std::abs(dot(*right[k], tr))),
                                 std::sqrt(std::abs(dot(s[k], ts))));
           }
       }

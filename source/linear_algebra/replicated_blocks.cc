@@ -277,6 +277,32 @@ namespace rotorfit
     return G;
   }
 
+  std::vector<double>
+  replicated_gram(const std::vector<const std::vector<double> *> &blocks,
+                  const std::size_t                               n,
+                  const MPI_Comm                                  comm)
+  {
+    std::vector<int> first{0};
+    for (const auto *P : blocks)
+      first.push_back(first.back() + P->size() / n);
+    const int           b = first.back(), rows = n;
+    std::vector<double> G(std::size_t(b) * b, 0.);
+    const double        one = 1, zero = 0;
+    for (std::size_t k = 0; k < blocks.size(); ++k)
+      for (std::size_t l = k; l < blocks.size(); ++l)
+        {
+          const int mk = first[k + 1] - first[k], ml = first[l + 1] - first[l];
+          if (mk > 0 && ml > 0)
+            dgemm_("T", "N", &mk, &ml, &rows, &one, blocks[k]->data(), &rows, blocks[l]->data(),
+                   &rows, &zero, G.data() + first[k] + std::size_t(first[l]) * b, &b);
+        }
+    for (int j = 0; j < b; ++j) // the lower triangle from the upper
+      for (int i = j + 1; i < b; ++i)
+        G[i + std::size_t(j) * b] = G[j + std::size_t(i) * b];
+    MPI_Bcast(G.data(), G.size(), MPI_DOUBLE, 0, comm);
+    return G;
+  }
+
   double
   inverse_norm_sqr(const std::vector<double> &G, const std::vector<std::complex<double>> &x)
   {

@@ -539,11 +539,11 @@ namespace rotorfit
           // factorisation's S^-1 F_0 (the real and imaginary parts in one
           // pass over the factors), made once per factorisation
           if (correction_factor !=
-              std::make_pair(&o.shifted_inverse, o.shifted_inverse.n_factorizations()))
+              std::make_pair(&o.shifted_inverse, o.shifted_inverse.n_operators()))
             {
               const ComplexVector f0 = forcing();
               replicated_solve(o.shifted_inverse, o.mass, {&f0.re, &f0.im}, static_correction);
-              correction_factor = {&o.shifted_inverse, o.shifted_inverse.n_factorizations()};
+              correction_factor = {&o.shifted_inverse, o.shifted_inverse.n_operators()};
             }
           basis.add(static_correction);
         }

@@ -79,6 +79,15 @@ namespace rotorfit
                   const ComplexVector       &phi,
                   const ComplexVector       &residual) const;
 
+    /// The same from |r| and |phi| (a residual's norm known without the
+    /// vector: the reduced model's Gram matrix of its blocks).
+    double
+    from_norm(const std::complex<double> lambda, const double norm_phi, const double norm_r) const
+    {
+      const double s = scale(lambda) * norm_phi;
+      return s > 0 ? norm_r / s : 0.;
+    }
+
     /// max over A = M, C, K of |A phi - Ap| / |A phi| (A^T for
     /// @p transpose): how far products taken elsewhere are from these
     /// matrices' own.
@@ -195,11 +204,22 @@ namespace rotorfit
      * convergence is not reported through deal.II: every mode carries its
      * residual, for the caller to judge.
      */
+    /// With @p factorize false the current operator is used as it is: the
+    /// last LDL^T of S with the low-rank update of update_factorization().
     std::vector<UndampedMode>
     solve_undamped(const dealii::PETScWrappers::MPI::SparseMatrix &M,
                    dealii::PETScWrappers::MPI::SparseMatrix       &K,
                    const unsigned int                              n_modes,
-                   Statistics                                     &statistics);
+                   Statistics                                     &statistics,
+                   bool                                            factorize = true);
+
+    /// The operator of the solves becomes the factorised matrix plus
+    /// U diag(s) U^T (DirectSolver::update); false if that failed.
+    bool
+    update_factorization(const std::vector<DirectSolver::UpdateColumn> &columns)
+    {
+      return solver.update(columns);
+    }
 
     /// Arnoldi vectors for @p nev eigenvalues at Krylov growth @p growth.
     unsigned int
@@ -308,6 +328,14 @@ namespace rotorfit
                           const dealii::PETScWrappers::MPI::SparseMatrix &layout,
                           const std::vector<const std::vector<double> *> &blocks,
                           const GramShortcut                             *shortcut = nullptr);
+
+  /// G = P^T P (column-major, rank 0's on every rank) for the blocks
+  /// P = [P_1 .. P_b] of replicated columns (each n x m_k, column-major):
+  /// |P x|^2 = x^H G x without the n-long vector P x.
+  std::vector<double>
+  replicated_gram(const std::vector<const std::vector<double> *> &blocks,
+                  std::size_t                                     n,
+                  MPI_Comm                                        comm);
 
   /// |x^H G x| for the real G of replicated_inverse_gram().
   double

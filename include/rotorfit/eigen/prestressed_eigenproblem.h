@@ -231,8 +231,9 @@ namespace rotorfit
               double                                                w,
               bool                                                  transpose) const;
     /// Estimated relative errors of reduced modes' eigenvalues, from their
-    /// residuals (of the vectors V y / scale) and the reduced damping
-    /// matrix @p Cr of the speed.
+    /// residuals (of the vectors V y / scale; null where the reduced solve
+    /// made none: then made here if back-substituted) and the reduced
+    /// damping matrix @p Cr of the speed.
     std::vector<double>
     error_estimates(const BackwardError                           &backward_error,
                     const std::vector<const EigenPair *>          &modes,
@@ -272,20 +273,44 @@ namespace rotorfit
     /// @p bearing_damping, S^-1 C_b x.
     void
     add_directions(const std::vector<const dealii::Vector<double> *> &parts,
-                   const bool                                         bearing_damping);
+                   const bool                                         bearing_damping,
+                   const bool                                         gyroscopic = true);
     /// A new anchor from the undamped modes of this speed and their
     /// directions (doc/theory.md 8.7), then the speed on the basis with
     /// every check of a reduced solve; false (and @p why) where they fail:
     /// the speed then needs the damped full solve. A @p lasting anchor
     /// (a contact state expected to hold over several speeds) also gets the
     /// directions other speeds need.
+    /// With @p on_update the anchor solves on the last LDL^T of S with a
+    /// low-rank update for the ties that changed since (tie_update()),
+    /// without a factorisation of its own.
     bool
     anchor_undamped(const StaticState       &state,
                     const std::vector<bool> &loose_body,
                     const unsigned int       nev,
                     const bool               lasting,
                     EigenSolution           &solution,
-                    std::string             &why);
+                    std::string             &why,
+                    const bool               on_update = false);
+    /// The tie springs that changed between the last LDL^T of S and the
+    /// ties @p tied of @p state (+eps for a pair tied since, -eps for one
+    /// released; one column per pair, three for bonded fits): false where
+    /// there is no such factorisation or more than Reduced anchor tie
+    /// updates changed.
+    bool
+    tie_update(const StaticState                       &state,
+               const std::vector<bool>                 &tied,
+               std::vector<DirectSolver::UpdateColumn> &columns) const;
+    /// The ties of the last LDL^T of S (each pair's spring, 0 where
+    /// untied), its speed and the factorisation count it was made at.
+    struct FactorTies
+    {
+      unsigned int        factorizations = ~0u;
+      double              rpm            = 0;
+      std::vector<double> eps;
+    } factor_ties;
+    /// anchors made on a tie update, and those refused (then a new LDL^T)
+    unsigned int updated_anchors = 0, updated_anchors_refused = 0;
     /// Free the products A V kept with the projections (before a
     /// factorisation: the memory peak).
     void
@@ -339,6 +364,14 @@ namespace rotorfit
     /// K_t + sigma^2 M: where both name the same tangent, S^-1 K_t V = V -
     /// sigma^2 S^-1 M V spares the Gram matrix a fifth of its columns
     unsigned int tangent_serial = 0, av_tangent_serial = ~0u;
+    /// what the tangent and damping matrices hold: the ties, w = Omega^2
+    /// and Omega they were made for (assemble_tangent)
+    struct TangentState
+    {
+      bool              valid = false;
+      std::vector<bool> tied;
+      double            w = 0, omega = 0;
+    } made_for;
     std::pair<unsigned int, unsigned int> undamped_factor{~0u, ~0u};
     /// The residual blocks' Gram matrix in the S^-1 norm of the latest
     /// factorisation (replicated_inverse_gram): the error estimates of a
@@ -357,6 +390,11 @@ namespace rotorfit
       bool         refused = false; ///< disagreed with the back-substitutions
       bool         checked = false; ///< compared with them (once, at its first speed)
       double       seconds = 0;
+      /// B^T B of the same blocks B: the right residuals' norms of a
+      /// speed's modes without their n-long vectors (made with g, checked
+      /// once against the vectors at its first speed)
+      std::vector<double>                      e;
+      bool e_checked = false, e_refused = false;
     } gram;
     /// An anchor's directions are made for this many modes at a time: the
     /// products, their back-substitutions and MUMPS's copies for a whole
@@ -376,6 +414,9 @@ namespace rotorfit
     static constexpr double gram_agreement = 1e-2, gram_floor = 1e-10;
     unsigned int gram_builds = 0;
     double       gram_worst_difference = 0;
+    /// largest relative difference of residual norms from ResidualGram::e
+    /// against the vectors' (at each such matrix's first speed)
+    double gram_norms_worst_difference = 0;
     /// the basis version a lasting anchor made (its Gram matrix is built at once)
     unsigned int gram_eager_version = ~0u;
     /// what the projections were made for

@@ -64,6 +64,14 @@ namespace rotorfit
       return max_slope;
     }
 
+    /// Most tie springs an undamped anchor takes as a low-rank update of the
+    /// last LDL^T instead of a new one (0: never).
+    unsigned int
+    tie_update_limit() const
+    {
+      return max_tie_updates;
+    }
+
     /// New bases start from undamped modes (else from a damped full solve).
     bool
     undamped_anchors() const
@@ -185,6 +193,7 @@ namespace rotorfit
     double       max_error = 1e-7;
     unsigned int extra_modes        = 6;
     double       max_slope          = 2;
+    unsigned int max_tie_updates    = 256;
     bool         undamped           = true;
 
     /// V, n x m column-major (one block: dgemv and dgemm read it directly)

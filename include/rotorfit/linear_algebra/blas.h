@@ -16,6 +16,11 @@ extern "C"
          const double *, const int *, const double *, const int *, const double *, double *,
          const int *);
   void
+  dgetrf_(const int *, const int *, double *, const int *, int *, int *);
+  void
+  dgetrs_(const char *, const int *, const int *, const double *, const int *, const int *,
+          double *, const int *, int *);
+  void
   dgeev_(const char *, const char *, const int *, double *, const int *, double *, double *,
          double *, const int *, double *, const int *, double *, const int *, int *);
 }

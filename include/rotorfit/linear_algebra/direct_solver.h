@@ -7,7 +7,10 @@
 
 #include <petscksp.h>
 
+#include <map>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace rotorfit
 {
@@ -107,6 +110,43 @@ namespace rotorfit
     std::string
     name() const;
 
+    /// One column u of a low-rank change A + sum_i s_i u_i u_i^T: its
+    /// nonzeros (global row, value), the spring s, and a key naming it, so
+    /// that A^-1 u is kept between updates of the same factorisation.
+    struct UpdateColumn
+    {
+      unsigned int                                        key = 0;
+      std::vector<std::pair<PetscInt, double>>            entries;
+      double                                              spring = 0;
+    };
+    /// From now on (until the next factorize()) every solve applies
+    /// (A + U diag(s) U^T)^-1 by the Woodbury identity: x = t - Z c with
+    /// t = A^-1 b, Z = A^-1 U (back-substituted here for the keys the last
+    /// update did not have) and (diag(1/s) + U^T Z) c = U^T t. An empty
+    /// list returns to A. Returns false (and the solves stay on A) if the
+    /// capacitance matrix is singular.
+    bool
+    update(const std::vector<UpdateColumn> &columns);
+    /// Columns of the current update (0: the factorised matrix itself).
+    std::size_t
+    n_update_columns() const
+    {
+      return update_columns.size();
+    }
+    /// Memory of the update: local rows x columns of A^-1 U.
+    std::size_t
+    update_memory() const
+    {
+      return update_z.capacity() * sizeof(double);
+    }
+    /// Changes with every factorisation and every update: what cached
+    /// back-substitutions were made with.
+    unsigned int
+    n_operators() const
+    {
+      return operators;
+    }
+
     /// Override the parsed type (unsymmetric matrices need LU).
     void
     set_type(const Type t)
@@ -117,6 +157,13 @@ namespace rotorfit
   private:
     void
     destroy();
+    /// x -= Z c for the @p k local columns of @p x (leading dimension
+    /// @p lda), c from the capacitance system (the current update).
+    void
+    apply_update(double *x, PetscInt k, PetscInt lda) const;
+    /// x -= Z c on the local rows of a dense PETSc matrix.
+    void
+    apply_update(Mat X) const;
 
     Type                 type = Type::mumps_cholesky;
     KSP                  ksp  = nullptr;
@@ -128,5 +175,15 @@ namespace rotorfit
     unsigned int         reused_analyses = 0;
     unsigned int         workspace_retries = 0;
     mutable unsigned int solves         = 0;
+    unsigned int         operators      = 0;
+    /// the update: its columns, Z = A^-1 U on the local rows (column-major;
+    /// the next update keeps the columns of keys it still has), the LU of
+    /// diag(1/s) + U^T Z
+    std::vector<UpdateColumn> update_columns;
+    std::vector<double>       update_z;
+    std::vector<double>       capacitance;
+    std::vector<int>          pivots;
+    PetscInt row_begin = 0, local_rows = 0, global_rows = 0;
+    MPI_Comm                                      comm      = MPI_COMM_NULL;
   };
 } // namespace rotorfit
