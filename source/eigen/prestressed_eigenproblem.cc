@@ -462,14 +462,13 @@ namespace rotorfit
     // on the locally owned rows; bonded: eps (u_h - u_s) in every
     // direction; frictionless: eps n n^T on the radial direction only
     const auto  &list        = model.pairs().pairs();
-    const double scale       = contact_scale / state.penalty_scale();
     const auto   range       = tangent.local_range();
     const bool   normal_only = contact_model == ContactModel::frictionless;
     for (unsigned int i = 0; i < list.size(); ++i)
       if (tied[i])
         {
           const auto  &p   = list[i];
-          const double eps = state.pair_penalty(i) * scale;
+          const double eps = tie_spring(state, i);
           for (unsigned int a = 0; a < 3; ++a)
             for (unsigned int c = 0; c < 3; ++c)
               {

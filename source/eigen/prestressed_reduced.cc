@@ -223,12 +223,11 @@ namespace rotorfit
     // the springs add_contact_ties() puts in: eps n n^T on the radial
     // direction (frictionless), eps in every direction (bonded), on the
     // relative motion of the pair's hub and shaft nodes
-    const auto  &list        = model.pairs().pairs();
-    const double scale       = contact_scale / state.penalty_scale();
-    const bool   normal_only = contact_model == ContactModel::frictionless;
+    const auto &list        = model.pairs().pairs();
+    const bool  normal_only = contact_model == ContactModel::frictionless;
     for (unsigned int i = 0; i < list.size(); ++i)
       {
-        const double now    = tied[i] ? state.pair_penalty(i) * scale : 0.;
+        const double now    = tied[i] ? tie_spring(state, i) : 0.;
         const double spring = now - factor_ties.eps[i];
         if (spring == 0)
           continue;
@@ -311,13 +310,12 @@ namespace rotorfit
       else
         {
           undamped_factor = {eigensolver.linear_solver().n_operators(), tangent_serial};
-          const auto  &list  = model.pairs().pairs();
-          const double scale = contact_scale / state.penalty_scale();
-          factor_ties        = {eigensolver.linear_solver().n_factorizations(), state.rpm,
-                                std::vector<double>(list.size(), 0.)};
-          for (unsigned int i = 0; i < list.size(); ++i)
+          const std::size_t n_pairs = model.pairs().pairs().size();
+          factor_ties = {eigensolver.linear_solver().n_factorizations(), state.rpm,
+                         std::vector<double>(n_pairs, 0.)};
+          for (unsigned int i = 0; i < n_pairs; ++i)
             if (solution.tied[i])
-              factor_ties.eps[i] = state.pair_penalty(i) * scale;
+              factor_ties.eps[i] = tie_spring(state, i);
         }
       // every mode below the first unconverged one was found
       while (found < modes.size() && modes[found].residual <= eigensolver.backward_error_limit())
@@ -396,12 +394,13 @@ namespace rotorfit
       line << "Lanczos " << stats.requested << " of " << stats.krylov_size << ", "
            << stats.iterations << " restarts, " << stats.operator_applications << " solves"
            << (stats.fallback.empty() ? "" : " (" + stats.fallback + ")");
-    line << "; basis " << reduced.size() << "; " << std::setprecision(3);
+    line << "; basis " << reduced.size() << "; ";
     if (on_update)
-      line << springs << " tie springs updating the LDL^T of " << factor_ties.rpm
-           << " r/min in " << stats.factorization_seconds << " s, ";
+      line << springs << " tie springs updating the LDL^T of " << std::setprecision(6)
+           << factor_ties.rpm << " r/min in " << std::setprecision(3)
+           << stats.factorization_seconds << " s, ";
     else
-      line << stats.factorization_seconds << " s LDL^T, ";
+      line << std::setprecision(3) << stats.factorization_seconds << " s LDL^T, ";
     line << stats.arnoldi_seconds << " s Lanczos ("
         << stats.solve_seconds << " s back-substitutions), "
         << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()

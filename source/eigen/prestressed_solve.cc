@@ -163,7 +163,10 @@ namespace rotorfit
                 ++updated_anchors_refused;
                 log << "  eigen: undamped anchor on the tie update refused at " << state.rpm
                     << " r/min (" << why << "): a new LDL^T\n";
-                reduced.clear(); // (its vectors and coverage are of the update's S)
+                // its vectors stay in the basis, the new anchor's join them
+                // (TS at 23,900 r/min: the two together serve the speed,
+                // the new anchor's alone do not, and the speed would need
+                // the damped full solve, its LU the 301-speed run's peak)
               }
             if (anchor_undamped(state, loose_body, nev, margin_pays, solution, why))
               {

@@ -292,6 +292,12 @@ namespace rotorfit
                     EigenSolution           &solution,
                     std::string             &why,
                     const bool               on_update = false);
+    /// Pair @p i's tie spring in the eigenproblem (doc/theory.md 7.4).
+    double
+    tie_spring(const StaticState &state, const unsigned int i) const
+    {
+      return state.pair_penalty(i) * (contact_scale / state.penalty_scale());
+    }
     /// The tie springs that changed between the last LDL^T of S and the
     /// ties @p tied of @p state (+eps for a pair tied since, -eps for one
     /// released; one column per pair, three for bonded fits): false where
