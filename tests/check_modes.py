@@ -880,6 +880,15 @@ def check_reduced(exe, prm, out, freq_tol, zeta_tol, *sets):
           f"{difference:.2e} of the back-substituted ones (tolerance 1e-2)",
           "ok" if good else "FAILED")
     ok &= good
+    # and the residual norms from the blocks' Euclidean Gram matrix, checked
+    # by the run against the vectors' at its first speed
+    norm_speeds = summary_number(red, "eigen.residual_norms_from_gram") or 0
+    norm_difference = summary_number(red, "eigen.residual_norm_gram_worst_difference") or 0
+    good = norm_difference <= 1e-2 and (norm_speeds > 0 or not need_gram)
+    print(f"speeds whose residual norms came from the Gram matrix: {norm_speeds}, within "
+          f"{norm_difference:.2e} of the vectors' where checked (tolerance 1e-2)",
+          "ok" if good else "FAILED")
+    ok &= good
     a = {(r["speed_rpm"], r["mode"]): r for r in rows(red)}
     b = {(r["speed_rpm"], r["mode"]): r for r in rows(full)}
     good = a.keys() == b.keys()

@@ -206,18 +206,21 @@ namespace rotorfit
   {
     columns.clear();
     const auto &solver = eigensolver.linear_solver();
-    if (!solver.factorized() || solver.n_factorizations() != factor_ties.factorizations)
+    // (bearing coefficients that change with speed: S would lack their change)
+    if (!solver.factorized() || solver.n_factorizations() != factor_ties.factorizations ||
+        bearings.speed_dependent())
       return false;
-    // a fit that lets go of its last tie frees a body: its rigid motions
-    // then rest on sigma^2 M alone, some 1e14 below the ties' springs, more
-    // than the Woodbury sum keeps (TS at the loss of fit: no mode converged)
+    // a fit that lets go of its last tie frees a body (or the factorised
+    // one had it free): its rigid motions then rest on sigma^2 M alone, some
+    // 1e14 below the ties' springs, more than the Woodbury sum keeps (TS at
+    // the loss of fit: no mode converged)
     const auto &pair_list = model.pairs();
     for (unsigned int f = 0; f < pair_list.n_interfaces(); ++f)
       {
         bool then = false, now = false;
         for (const unsigned int p : pair_list.pairs_of(f))
           then |= factor_ties.eps[p] > 0, now |= tied[p];
-        if (then && !now)
+        if (then != now)
           return false;
       }
     // the springs add_contact_ties() puts in: eps n n^T on the radial
@@ -545,18 +548,24 @@ namespace rotorfit
               sum[j] += y[i][j] / scale[i];
           }
       }
-    // a mode near the Backward error limit is judged on its vector
-    if (residual.empty())
-      for (std::size_t i = 0; i < picked.size(); ++i)
-        if (usable[i] && !(backward_error.from_norm(lambda[i], 1., norm_r[i]) <=
-                           1e-2 * eigensolver.backward_error_limit()))
+    // a mode near the Backward error limit is judged on its vector (the
+    // same decision on every rank)
+    if (gram_norms && residual.empty())
+      {
+        bool near_limit = false;
+        for (std::size_t i = 0; i < picked.size(); ++i)
+          near_limit |= usable[i] && !(backward_error.from_norm(lambda[i], 1., norm_r[i]) <=
+                                       1e-2 * eigensolver.backward_error_limit());
+        if (Utilities::MPI::max(near_limit ? 1 : 0, comm) == 1)
           {
             residual = residuals(y, lambda, omega, state.w(), false);
             for (std::size_t j = 0; j < picked.size(); ++j)
               if (usable[j])
                 residual[j].re /= scale[j], residual[j].im /= scale[j];
-            break;
           }
+        else
+          ++gram_norm_speeds;
+      }
     double gram_norm_difference = 0;
     // the products are checked against this speed's sparse matrices on one
     // combination of the modes: the checks on the full matrices rest on them
@@ -591,7 +600,8 @@ namespace rotorfit
     if (gram_norms && !gram.e_checked)
       {
         gram.e_checked = true;
-        gram.e_refused = !(gram_norm_difference <= gram_agreement);
+        gram.e_refused =
+          Utilities::MPI::max(gram_norm_difference <= gram_agreement ? 0 : 1, comm) == 1;
         gram_norms_worst_difference = std::max(gram_norms_worst_difference, gram_norm_difference);
         std::ostringstream line;
         line << "  eigen: residual norms from the Gram matrix of the blocks differ from the "

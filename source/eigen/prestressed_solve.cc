@@ -154,6 +154,7 @@ namespace rotorfit
             std::vector<DirectSolver::UpdateColumn> columns;
             if (reduced.tie_update_limit() > 0 && tie_update(state, solution.tied, columns))
               {
+                const std::size_t anchors_before = reduced.anchors.size();
                 if (anchor_undamped(state, loose_body, nev, margin_pays, solution, why, true))
                   {
                     ++updated_anchors;
@@ -166,7 +167,10 @@ namespace rotorfit
                 // its vectors stay in the basis, the new anchor's join them
                 // (TS at 23,900 r/min: the two together serve the speed,
                 // the new anchor's alone do not, and the speed would need
-                // the damped full solve, its LU the 301-speed run's peak)
+                // the damped full solve, its LU the 301-speed run's peak);
+                // its coverage claim goes (the checks refused it)
+                if (reduced.anchors.size() > anchors_before)
+                  reduced.anchors.resize(anchors_before);
               }
             if (anchor_undamped(state, loose_body, nev, margin_pays, solution, why))
               {
@@ -448,6 +452,7 @@ namespace rotorfit
         summary.add("eigen.estimate_gram_matrices", gram_builds);
         summary.add("eigen.estimate_gram_worst_difference", gram_worst_difference, 12);
         summary.add("eigen.residual_norm_gram_worst_difference", gram_norms_worst_difference, 12);
+        summary.add("eigen.residual_norms_from_gram", gram_norm_speeds);
       }
     summary.add("eigen.workspace_retries", eigensolver.linear_solver().n_workspace_retries());
     summary.add("eigen.factorizations", eigensolver.linear_solver().n_factorizations());

@@ -228,8 +228,8 @@ namespace rotorfit
     };
     const std::size_t rows = local_rows;
     // Z = A^-1 U: the columns of the last update still wanted move to the
-    // front (in place: one copy of Z in memory), the new ones are
-    // back-substituted behind them, 32 at a time
+    // front (in place), the new ones are back-substituted behind them, 32
+    // at a time (Z's storage grows once, to the new size)
     std::map<unsigned int, std::size_t> had;
     for (std::size_t j = 0; j < update_columns.size(); ++j)
       had[update_columns[j].key] = j;
@@ -243,8 +243,9 @@ namespace rotorfit
       std::vector<UpdateColumn> kept;
       for (const std::size_t j : from)
         {
-          std::copy(update_z.begin() + j * rows, update_z.begin() + (j + 1) * rows,
-                    update_z.begin() + kept.size() * rows);
+          if (j != kept.size())
+            std::copy(update_z.begin() + j * rows, update_z.begin() + (j + 1) * rows,
+                      update_z.begin() + kept.size() * rows);
           for (const auto &u : order)
             if (u.key == update_columns[j].key)
               kept.push_back(u);
@@ -291,7 +292,10 @@ namespace rotorfit
       }
     const int c = order.size();
     if (c == 0)
-      return true;
+      {
+        std::vector<double>().swap(update_z);
+        return true;
+      }
     // diag(1/s) + U^T Z
     std::vector<double> F(std::size_t(c) * c, 0.);
     for (int i = 0; i < c; ++i)

@@ -423,6 +423,8 @@ namespace rotorfit
     /// largest relative difference of residual norms from ResidualGram::e
     /// against the vectors' (at each such matrix's first speed)
     double gram_norms_worst_difference = 0;
+    /// reduced solves whose residual norms came from ResidualGram::e alone
+    unsigned int gram_norm_speeds = 0;
     /// the basis version a lasting anchor made (its Gram matrix is built at once)
     unsigned int gram_eager_version = ~0u;
     /// what the projections were made for
