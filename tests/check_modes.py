@@ -871,24 +871,21 @@ def check_reduced(exe, prm, out, freq_tol, zeta_tol, *sets):
         print(f"anchors on tie updates of an earlier LDL^T: {updated}",
               "ok" if updated > 0 else "FAILED")
         ok &= updated > 0
-    # the estimates from the Gram matrix of the residual blocks, checked by
-    # the run against back-substitutions where each is made
-    grams = summary_number(red, "eigen.estimate_gram_matrices") or 0
-    difference = summary_number(red, "eigen.estimate_gram_worst_difference") or 0
-    good = difference <= 1e-2 and (grams > 0 or not need_gram)
-    print(f"Gram matrices of the residual blocks: {grams}, their estimates within "
-          f"{difference:.2e} of the back-substituted ones (tolerance 1e-2)",
-          "ok" if good else "FAILED")
-    ok &= good
-    # and the residual norms from the blocks' Euclidean Gram matrix, checked
-    # by the run against the vectors' at its first speed
-    norm_speeds = summary_number(red, "eigen.residual_norms_from_gram") or 0
-    norm_difference = summary_number(red, "eigen.residual_norm_gram_worst_difference") or 0
-    good = norm_difference <= 1e-2 and (norm_speeds > 0 or not need_gram)
-    print(f"speeds whose residual norms came from the Gram matrix: {norm_speeds}, within "
-          f"{norm_difference:.2e} of the vectors' where checked (tolerance 1e-2)",
-          "ok" if good else "FAILED")
-    ok &= good
+    # the estimates from the Gram matrix of the residual blocks (checked by
+    # the run against back-substitutions where each is made) and the residual
+    # norms from the blocks' Euclidean Gram matrix (against the vectors' at
+    # its first speed)
+    for count_key, difference_key, what in (
+            ("eigen.estimate_gram_matrices", "eigen.estimate_gram_worst_difference",
+             "Gram matrices of the residual blocks, estimates against the back-substituted ones"),
+            ("eigen.residual_norms_from_gram", "eigen.residual_norm_gram_worst_difference",
+             "speeds with residual norms from the Gram matrix, against the vectors'")):
+        count = summary_number(red, count_key) or 0
+        difference = summary_number(red, difference_key) or 0
+        good = difference <= 1e-2 and (count > 0 or not need_gram)
+        print(f"{what}: {count}, within {difference:.2e} (tolerance 1e-2)",
+              "ok" if good else "FAILED")
+        ok &= good
     a = {(r["speed_rpm"], r["mode"]): r for r in rows(red)}
     b = {(r["speed_rpm"], r["mode"]): r for r in rows(full)}
     good = a.keys() == b.keys()
