@@ -967,6 +967,17 @@ def check_reduced(exe, prm, out, freq_tol, zeta_tol, *sets):
               f"largest (tolerance 1e-6); speeds solved on the reduced basis: {served}",
               "ok" if good else "FAILED")
         ok &= good
+        # the kept columns' D and K products from the speed's affine share:
+        # used, and never refused by the sparse products' check (a share
+        # that does not follow the matrices is refused there)
+        shared = summary_number(red, "response.kept_products_speeds")
+        refused = summary_number(red, "response.kept_products_refused")
+        mismatch = summary_number(red, "response.kept_products_worst_mismatch")
+        good = shared is not None and shared > 0 and refused == 0 and mismatch <= 1e-6
+        print(f"response: {shared} speeds with the kept products' affine share, "
+              f"largest mismatch {mismatch} (tolerance 1e-6), refused {refused}",
+              "ok" if good else "FAILED")
+        ok &= good
     oa, ob = rows(red, "stability_onsets.csv"), rows(full, "stability_onsets.csv")
     good = len(oa) == len(ob)
     print(f"stability onsets: {len(oa)} reduced, {len(ob)} full", "ok" if good else "FAILED")

@@ -378,6 +378,7 @@ namespace rotorfit
         return;
       }
     made_for = {true, tied, w, omega};
+    ++segment_serial;
     if (bearings.speed_dependent() || speeds_done == 0)
       {
         bearing_k = 0;

@@ -79,6 +79,21 @@ namespace rotorfit
         eigensolver.factorize(matrices.mass, damping, tangent);
       }
     SpeedOperators op{matrices.mass, damping, tangent, eigensolver.linear_solver(), last_rpm};
+    // as assemble_tangent() moves within a segment
+    if (made_for.valid && !bearings.speed_dependent() &&
+        (stiffening != StressStiffening::full || convective_folded || !convective_term))
+      {
+        op.segment     = segment_serial;
+        op.speed_share = [this](const std::vector<const Vector<double> *> &x,
+                                std::vector<Vector<double>>               &gx,
+                                std::vector<Vector<double>>               &k2x) {
+          replicated_mmult(matrices.gyroscopic, x, gx);
+          if (stiffening == StressStiffening::full)
+            replicated_mmult(k_sigma_C, x, k2x);
+          else
+            k2x.assign(x.size(), Vector<double>(matrices.mass.m()));
+        };
+      }
     // the reduced model of this speed, for the response: only with the
     // products its projections were made of (freed by a full solve)
     if (speed_reduced && !av_mass.empty())
@@ -87,7 +102,7 @@ namespace rotorfit
         op.Mr    = &p_mass;
         op.Cr    = &speed_Cr;
         op.Kr    = &speed_Kr;
-        const double omega = SpeedSchedule::rpm_to_rad_per_s(last_rpm), dw = omega * omega - w_tangent;
+        const double omega = SpeedSchedule::rpm_to_rad_per_s(last_rpm);
         op.products = [this, omega](const std::vector<std::complex<double>> &y,
                                     ComplexVector                           &Mu,
                                     ComplexVector                           &Cu,
@@ -97,21 +112,21 @@ namespace rotorfit
           Cu         = std::move(e.c[0]);
           Ku         = std::move(e.k[0]);
         };
-        op.row_products = [this, omega, dw](const std::vector<const Vector<double> *> &x,
-                                            std::vector<double>                     &m_rows,
-                                            std::vector<double>                     &c_rows,
-                                            std::vector<double>                     &k_rows) {
+        op.w_tangent = w_tangent;
+        op.row_parts = [this](const std::vector<const Vector<double> *> &x,
+                              std::array<std::vector<double>, 5>        &parts) {
           const std::size_t   n = matrices.mass.m();
           std::vector<double> X(n * x.size());
           for (std::size_t j = 0; j < x.size(); ++j)
             std::copy(x[j]->begin(), x[j]->end(), X.begin() + j * n);
-          for (auto *c : {&m_rows, &c_rows, &k_rows})
-            c->assign(reduced.size() * x.size(), 0.);
-          reduced.apply_transpose(av_mass, X, 1., m_rows);
-          reduced.apply_transpose(av_bearing_c, X, 1., c_rows);
-          reduced.apply_transpose(av_gyro, X, omega, c_rows);
-          reduced.apply_transpose(av_tangent, X, 1., k_rows);
-          reduced.apply_transpose(av_tangent2, X, dw, k_rows);
+          const std::vector<double> *blocks[5] = {&av_mass, &av_bearing_c, &av_gyro, &av_tangent,
+                                                  &av_tangent2};
+          for (unsigned int b = 0; b < 5; ++b)
+            {
+              parts[b].assign(reduced.size() * x.size(), 0.);
+              if (!blocks[b]->empty())
+                reduced.apply_transpose(*blocks[b], X, 1., parts[b]);
+            }
         };
       }
     return op;
@@ -403,6 +418,21 @@ namespace rotorfit
   }
 
   bool
+  PrestressedEigenproblem::product_check_due(const double rpm)
+  {
+    auto &c = product_check;
+    if (c.basis != reduced.version() || !(c.tangent == key_tangent) ||
+        !(c.bearing == key_bearing) || c.segment != segment_serial)
+      {
+        c       = ProductCheck{key_tangent, key_bearing, reduced.version(), segment_serial, 0, 0., rpm,
+                         false, false, true};
+        return true;
+      }
+    c.due = ++c.speeds % product_check_interval == 0;
+    return c.due;
+  }
+
+  bool
   PrestressedEigenproblem::solve_reduced(const StaticState       &state,
                                          const std::vector<bool> &loose_body,
                                          const unsigned int       nev,
@@ -512,8 +542,15 @@ namespace rotorfit
     // the products are checked against this speed's sparse matrices on one
     // combination of the modes: the checks on the full matrices rest on them
     std::ostringstream reason;
-    const double       mismatch =
-      checked ? expanded({sum}, omega, state.w(), false).mismatch(backward_error, false) : 0.;
+    product_check.due           = false;
+    const bool   check_products = checked && product_check_due(state.rpm);
+    const double mismatch =
+      check_products ? expanded({sum}, omega, state.w(), false).mismatch(backward_error, false) :
+                       product_check.mismatch;
+    if (check_products)
+      product_check.mismatch = mismatch, product_check.rpm = state.rpm;
+    else if (checked)
+      ++product_checks_skipped;
     if (!(mismatch <= product_tolerance))
       reason << "the reduced model's products differ from this speed's matrices by "
              << std::setprecision(3) << mismatch << " (relative)";
@@ -637,7 +674,10 @@ namespace rotorfit
                 .lambda.imag() /
               (2 * M_PI)
          << " Hz, max backward error " << std::setprecision(2) << worst
-         << ", max estimated error " << worst_estimate << ", products checked to " << mismatch
+         << ", max estimated error " << worst_estimate << ", products checked to " << mismatch;
+    if (!check_products)
+      line << " (at " << product_check.rpm << " r/min)";
+    line
          << "; " << std::setprecision(3)
          << elapsed() << " s (" << t_projections << " s projections, " << t_modes - t_projections
          << " s dense solve + residuals, " << t_estimate - t_modes << " s estimates)\n";

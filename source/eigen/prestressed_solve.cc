@@ -449,6 +449,7 @@ namespace rotorfit
       {
         summary.add("eigen.reduced_worst_error_estimate", reduced_worst, 12);
         summary.add("eigen.reduced_worst_product_mismatch", reduced_worst_products, 12);
+        summary.add("eigen.product_checks_skipped", product_checks_skipped);
         summary.add("eigen.estimate_gram_matrices", gram_builds);
         summary.add("eigen.estimate_gram_worst_difference", gram_worst_difference, 12);
         summary.add("eigen.residual_norm_gram_worst_difference", gram_norms_worst_difference, 12);

@@ -207,7 +207,16 @@ namespace rotorfit
     // with C^T = C_b - omega G and K_t^T = K_t, where the sparse transposed
     // products on the sum of the left vectors agree (not so with
     // cross-coupled bearings: then the sparse products for each)
-    const bool kept = expanded({sum}, omega, w, true).mismatch(backward_error, true) <= product_tolerance;
+    // (decided once per key of the products' check, where that check was
+    // made: the symmetry of C_b and K_t does not change with the speed)
+    auto &check = product_check;
+    if (!check.transposed_known || check.due)
+      {
+        check.transposed_kept =
+          expanded({sum}, omega, w, true).mismatch(backward_error, true) <= product_tolerance;
+        check.transposed_known = true;
+      }
+    const bool kept = check.transposed_kept;
     std::vector<ComplexVector> s; // (from the kept products only where back-substituted, below)
     if (!kept)
       {

@@ -1,6 +1,7 @@
 #include <rotorfit/base/format.h>
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/base/patterns.h>
+#include <rotorfit/response/projection_basis.h>
 #include <rotorfit/response/unbalance_response.h>
 #include <rotorfit/statics/speed_schedule.h>
 
@@ -188,303 +189,6 @@ namespace rotorfit
     return f;
   }
 
-  namespace
-  {
-    /// The Galerkin basis of the response: the eigen reduced model's basis
-    /// V_h of this speed (if it was solved on it: its projections are
-    /// known, doc/theory.md 13) followed by explicit columns e, orthonormal
-    /// and M-orthogonal to V_h, with their products by M, D, K.
-    struct ProjectionBasis
-    {
-      const PrestressedEigenproblem::SpeedOperators &op;
-      std::vector<Vector<double>> v, mv, dv, kv;
-      /// W^T M W, W^T D W, W^T K W over W = [V_h e], grown with the basis
-      std::vector<std::vector<double>> mr, dr, kr;
-
-      unsigned int
-      head() const
-      {
-        return op.basis ? op.basis->size() : 0;
-      }
-
-      unsigned int
-      size() const
-      {
-        return head() + v.size();
-      }
-
-      /// Galerkin on the basis: U = W y with (A + i B) y = W^T f, A = W^T (K -
-      /// w^2 M) W, B = w W^T D W, solved as the real block system
-      /// [A -B; B A] [y_re; y_im] = [W^T f_re; W^T f_im]; @p r becomes the
-      /// full-space residual f - (K - w^2 M + i w D) U.
-      void
-      solve(const ComplexVector &f, const double w, ComplexVector &u, ComplexVector &r)
-      {
-        const unsigned int k = size();
-        project();
-        LAPACKFullMatrix<double> S(2 * k, 2 * k);
-        for (unsigned int i = 0; i < k; ++i)
-          for (unsigned int j = 0; j < k; ++j)
-            {
-              const double a = kr[i][j] - w * w * mr[i][j];
-              const double b = w * dr[i][j];
-              S(i, j) = S(k + i, k + j) = a;
-              S(i, k + j)               = -b;
-              S(k + i, j)               = b;
-            }
-        S.compute_lu_factorization();
-        Vector<double> y = project_vector(f);
-        S.solve(y);
-        residual(f, w, y, u, r);
-        // the projected system of a large basis solves to about eps times its
-        // condition; one or two steps of refinement on the residual
-        // recover what the basis can give
-        const auto norm = [](const ComplexVector &z) {
-          return std::sqrt(z.re.norm_sqr() + z.im.norm_sqr());
-        };
-        for (unsigned int refinement = 0; refinement < 2 && head() > 0; ++refinement)
-          {
-            Vector<double> dy = project_vector(r);
-            S.solve(dy);
-            Vector<double> y_new = y;
-            y_new += dy;
-            ComplexVector u_new, r_new;
-            residual(f, w, y_new, u_new, r_new);
-            if (!(norm(r_new) < 0.5 * norm(r)))
-              break;
-            y = std::move(y_new);
-            u = std::move(u_new);
-            r = std::move(r_new);
-          }
-      }
-
-      /// [W^T g_re; W^T g_im].
-      Vector<double>
-      project_vector(const ComplexVector &g) const
-      {
-        const unsigned int k = size(), h = head();
-        Vector<double>     y(2 * k);
-        if (h > 0)
-          {
-            const std::vector<double> c = op.basis->coefficients(
-              std::vector<const Vector<double> *>{&g.re, &g.im});
-            for (unsigned int i = 0; i < h; ++i)
-              y[i] = c[i], y[k + i] = c[h + i];
-          }
-        for (unsigned int i = h; i < k; ++i)
-          {
-            y[i]     = v[i - h] * g.re;
-            y[k + i] = v[i - h] * g.im;
-          }
-        return y;
-      }
-
-      /// u = W y and r = f - (K - w^2 M + i w D) u.
-      void
-      residual(const ComplexVector  &f,
-               const double          w,
-               const Vector<double> &y,
-               ComplexVector        &u,
-               ComplexVector        &r) const
-      {
-        const unsigned int k = size(), h = head();
-        r = f;
-        if (h > 0)
-          {
-            // the head's part from the products its projections were made of
-            std::vector<std::complex<double>> yh(h);
-            for (unsigned int i = 0; i < h; ++i)
-              yh[i] = {y[i], y[k + i]};
-            u = op.basis->expand(yh);
-            ComplexVector mu, du, ku;
-            op.products(yh, mu, du, ku);
-            r.re.add(-1., ku.re, w * w, mu.re);
-            r.re.add(w, du.im);
-            r.im.add(-1., ku.im, w * w, mu.im);
-            r.im.add(-w, du.re);
-          }
-        else
-          u = {Vector<double>(f.re.size()), Vector<double>(f.re.size())};
-        for (unsigned int j = h; j < k; ++j)
-          {
-            const double       yr = y[j], yi = y[k + j];
-            const unsigned int e  = j - h;
-            u.re.add(yr, v[e]);
-            u.im.add(yi, v[e]);
-            r.re.add(-yr, kv[e], w * w * yr, mv[e]);
-            r.re.add(w * yi, dv[e]);
-            r.im.add(-yi, kv[e], w * w * yi, mv[e]);
-            r.im.add(-w * yr, dv[e]);
-          }
-      }
-
-      /// Complete the reduced matrices for the columns added since the
-      /// last call (only the new rows and columns are computed).
-      void
-      project()
-      {
-        const std::size_t k = size(), h = head(), old = mr.size();
-        for (auto *r : {&mr, &dr, &kr})
-          {
-            r->resize(k);
-            for (auto &row : *r)
-              row.resize(k);
-          }
-        if (old == 0)
-          for (std::size_t i = 0; i < h; ++i)
-            for (std::size_t j = 0; j < h; ++j)
-              {
-                mr[i][j] = (*op.Mr)(i, j);
-                dr[i][j] = (*op.Cr)(i, j);
-                kr[i][j] = (*op.Kr)(i, j);
-              }
-        const std::size_t first = std::max(old, h);
-        if (h > 0 && first < k)
-          {
-            // V_h^T (A e), and e^T (A V_h) from the head's products, so that
-            // every entry rounds as the residual does; all new columns in one
-            // pass over each block
-            std::vector<const Vector<double> *> e_v, e_m, e_d, e_k;
-            for (std::size_t j = first; j < k; ++j)
-              {
-                e_v.push_back(&v[j - h]);
-                e_m.push_back(&mv[j - h]);
-                e_d.push_back(&dv[j - h]);
-                e_k.push_back(&kv[j - h]);
-              }
-            const std::vector<double> m_col = op.basis->coefficients(e_m),
-                                      d_col = op.basis->coefficients(e_d),
-                                      k_col = op.basis->coefficients(e_k);
-            std::vector<double> m_row, d_row, k_row;
-            op.row_products(e_v, m_row, d_row, k_row);
-            for (std::size_t j = first; j < k; ++j)
-              for (std::size_t i = 0, at = (j - first) * h; i < h; ++i, ++at)
-                {
-                  mr[i][j] = m_col[at], mr[j][i] = m_row[at];
-                  dr[i][j] = d_col[at], dr[j][i] = d_row[at];
-                  kr[i][j] = k_col[at], kr[j][i] = k_row[at];
-                }
-          }
-        for (std::size_t j = first; j < k; ++j)
-          {
-            const std::size_t e = j - h;
-            for (std::size_t i = h; i < k; ++i)
-              {
-                const std::size_t c = i - h;
-                mr[i][j] = v[c] * mv[e], mr[j][i] = v[e] * mv[c];
-                dr[i][j] = v[c] * dv[e], dr[j][i] = v[e] * dv[c];
-                kr[i][j] = v[c] * kv[e], kr[j][i] = v[e] * kv[c];
-              }
-          }
-      }
-
-      /// Take columns kept from an earlier speed on the same head (already
-      /// M-orthonormal to it and each other, @p mx their M products); their
-      /// products with this speed's D and K are made afresh.
-      void
-      adopt(const std::vector<Vector<double>> &x, const std::vector<Vector<double>> &mx)
-      {
-        v  = x;
-        mv = mx;
-        replicated_mmult(op.damping, pointers(v), dv);
-        replicated_mmult(op.stiffness, pointers(v), kv);
-      }
-
-      /// Orthogonalise the columns @p xs against the basis and each other
-      /// (twice) and append those not in its span; true if any was. Their
-      /// products with M, D, K are block products (one pass over a matrix
-      /// for all of them: the real and imaginary parts of a correction).
-      bool
-      add(std::vector<Vector<double>> xs)
-      {
-        std::vector<Vector<double>> x, mx;
-        std::vector<double>         norm0;
-        for (auto &z : xs)
-          {
-            const double a = z.l2_norm();
-            if (a > 0 && std::isfinite(a))
-              {
-                norm0.push_back(a);
-                x.push_back(std::move(z));
-              }
-          }
-        if (x.empty())
-          return false;
-        const std::size_t old = v.size();
-        if (head() > 0)
-          {
-            // M-orthonormal like the head (columns of one scale keep the
-            // projected system as well conditioned as the basis is): against
-            // the head twice, then the explicit columns, then each other
-            replicated_mmult(op.mass, pointers(x), mx);
-            for (std::size_t i = 0; i < x.size(); ++i)
-              norm0[i] = std::sqrt(std::max(0., x[i] * mx[i]));
-            for (unsigned int pass = 0; pass < 2; ++pass)
-              {
-                for (std::size_t i = 0; i < x.size(); ++i)
-                  op.basis->subtract_projection(x[i], mx[i]);
-                replicated_mmult(op.mass, pointers(x), mx);
-              }
-            for (std::size_t i = 0; i < x.size(); ++i)
-              for (unsigned int pass = 0; pass < 2; ++pass)
-                for (std::size_t e = 0; e < old; ++e)
-                  x[i].add(-(mv[e] * x[i]), v[e]);
-            replicated_mmult(op.mass, pointers(x), mx);
-            for (std::size_t i = 0; i < x.size(); ++i)
-              {
-                if (v.size() > old)
-                  {
-                    // the columns of this block kept before it
-                    for (unsigned int pass = 0; pass < 2; ++pass)
-                      for (std::size_t e = old; e < v.size(); ++e)
-                        x[i].add(-(mv[e] * x[i]), v[e]);
-                    replicated_vmult(op.mass, x[i], mx[i]);
-                  }
-                const double m_norm = std::sqrt(std::max(0., x[i] * mx[i]));
-                if (!(m_norm > 1e-10 * norm0[i]))
-                  continue;
-                x[i] /= m_norm;
-                mx[i] /= m_norm;
-                v.push_back(std::move(x[i]));
-                mv.push_back(std::move(mx[i]));
-              }
-          }
-        else
-          {
-            for (std::size_t i = 0; i < x.size(); ++i)
-              {
-                for (unsigned int pass = 0; pass < 2; ++pass)
-                  for (const auto &q : v)
-                    x[i].add(-(q * x[i]), q);
-                const double norm = x[i].l2_norm();
-                if (!(norm > 1e-10 * norm0[i]))
-                  continue;
-                x[i] /= norm;
-                v.push_back(std::move(x[i]));
-              }
-            std::vector<const Vector<double> *> added;
-            for (std::size_t e = old; e < v.size(); ++e)
-              added.push_back(&v[e]);
-            replicated_mmult(op.mass, added, mx);
-            for (auto &z : mx)
-              mv.push_back(std::move(z));
-          }
-        std::vector<const Vector<double> *> added;
-        for (std::size_t e = old; e < v.size(); ++e)
-          added.push_back(&v[e]);
-        std::vector<Vector<double>> dx, kx;
-        replicated_mmult(op.damping, added, dx);
-        replicated_mmult(op.stiffness, added, kx);
-        for (std::size_t e = 0; e < added.size(); ++e)
-          {
-            dv.push_back(std::move(dx[e]));
-            kv.push_back(std::move(kx[e]));
-          }
-        return v.size() > old;
-      }
-    };
-  } // namespace
-
   ResponseAtSpeed
   UnbalanceResponse::solve(const StaticState                              &state,
                            const PrestressedEigenproblem::SpeedOperators &op,
@@ -506,15 +210,27 @@ namespace rotorfit
     // of its head with a stiff K round to about that level), and the speed
     // is solved on its modes instead
     const auto attempt = [&](const PrestressedEigenproblem::SpeedOperators &o) {
-      ProjectionBasis basis{o, {}, {}, {}, {}, {}, {}, {}};
+      ProjectionBasis basis{o, {}, {}, {}, {}, nullptr, w, {}, {}, {}};
       // on the eigen reduced basis of the last speed: that speed's explicit
       // columns (at most as many as a fresh start and four enrichments hold)
       const std::pair<const ReducedBasis *, unsigned int> head{o.basis,
                                                                o.basis ? o.basis->version() : 0};
       const bool reuse = o.basis && head == kept_head && !kept.empty();
-      const auto keep  = [&](const bool ok) {
+      // (the checks' record goes on from one kept base to the next)
+      const auto rekeep = [this](KeptProducts next) {
+        next.worst    = kept_products.worst;
+        next.served   = kept_products.served;
+        next.refused  = kept_products.refused;
+        kept_products = std::move(next);
+      };
+      const auto keep = [&](const bool ok) {
         if (o.basis && ok && basis.v.size() <= 10)
           {
+            // the same columns again: their products at the speed they
+            // were first kept stay the base of the affine share
+            if (!(reuse && basis.v.size() == kept.size() && o.segment != 0 &&
+                  o.segment == kept_products.segment))
+              rekeep({o.segment, w, basis.dv, basis.kv, {}, {}});
             kept      = basis.v;
             kept_m    = basis.mv;
             kept_head = head;
@@ -524,11 +240,12 @@ namespace rotorfit
             kept.clear();
             kept_m.clear();
             kept_head = {nullptr, 0};
+            rekeep({});
           }
         return ok;
       };
       if (reuse)
-        basis.adopt(kept, kept_m);
+        basis.adopt(kept, kept_m, kept_products, w);
       else
         {
           // the speed's modes lie in the eigen reduced basis when it solved them
@@ -552,7 +269,7 @@ namespace rotorfit
       for (unsigned int step = 0;; ++step)
         {
           ComplexVector r = f;
-          basis.solve(f, w, u, r);
+          basis.solve(f, w, tolerance, u, r);
           out.residual   = std::sqrt(r.re.norm_sqr() + r.im.norm_sqr()) / f_norm;
           out.basis_size = basis.size();
           if (out.residual <= tolerance)
@@ -630,6 +347,11 @@ namespace rotorfit
     summary.add("response.unconverged_speeds", unconverged_speeds);
     summary.add("response.reduced_speeds", reduced_speeds);
     summary.add("response.worst_residual", worst_residual, 3);
+    // the kept columns' D and K products from the speed's affine share,
+    // against the sparse products where checked
+    summary.add("response.kept_products_worst_mismatch", kept_products.worst, 3);
+    summary.add("response.kept_products_speeds", kept_products.served);
+    summary.add("response.kept_products_refused", kept_products.refused);
     unsigned int unresolved = 0;
     for (const auto &p : peaks())
       if (!p.resolved)

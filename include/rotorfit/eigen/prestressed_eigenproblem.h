@@ -139,13 +139,21 @@ namespace rotorfit
                          ComplexVector                           &Cu,
                          ComplexVector                           &Ku)>
         products;
-      /// (M V)^T X, (C V)^T X, (K_t V)^T X (m x k, column-major) for the
-      /// columns X = [x_1 .. x_k] from the same products
+      /// (A V)^T X (m x k, column-major) for the columns X = [x_1 .. x_k]
+      /// from the same products, for A = M, C_b, G, K_t (at w_tangent),
+      /// K_t2: C = C_b + Omega G, K_t = K_t(w_tangent) + (w - w_tangent) K_t2
       std::function<void(const std::vector<const dealii::Vector<double> *> &x,
-                         std::vector<double>                               &m_rows,
-                         std::vector<double>                               &c_rows,
-                         std::vector<double>                               &k_rows)>
-        row_products;
+                         std::array<std::vector<double>, 5>                &parts)>
+        row_parts;
+      double w_tangent = 0;
+      /// Where the speeds of one contact segment differ only by their affine
+      /// share (D = D_s + (Omega - Omega_s) G, K_t = K_s + (w - w_s) K_t2,
+      /// w = Omega^2): the segment's number (0: not so) and G X, K_t2 X
+      unsigned int segment = 0;
+      std::function<void(const std::vector<const dealii::Vector<double> *> &x,
+                         std::vector<dealii::Vector<double>>               &gx,
+                         std::vector<dealii::Vector<double>>               &k2x)>
+        speed_share;
     };
     SpeedOperators
     operators();
@@ -438,6 +446,30 @@ namespace rotorfit
         return basis == o.basis && k_sigma == o.k_sigma && rpm == o.rpm;
       }
     } key_basis{~0u, 0, -1}, key_tangent{~0u, 0, -1}, key_bearing{~0u, 0, -1};
+    /// full assemblies of the tangent (a new contact segment, ties or
+    /// bearing coefficients); between two, the tangent and the damping move
+    /// by the speed's affine share alone
+    unsigned int segment_serial = 0;
+    /// The kept products' check on this speed's sparse matrices
+    /// (solve_reduced): made at the first speed of each basis, projections
+    /// and tangent segment, then every product_check_interval-th speed.
+    /// Between, the sparse matrices and the kept products move by the same
+    /// affine share of the speed, so the check would repeat the first one's
+    /// rounding (a fifth of a reduced speed on TS: six sparse products).
+    struct ProductCheck
+    {
+      ProjectionKey tangent, bearing;
+      unsigned int  basis = ~0u, segment = ~0u, speeds = 0;
+      double        mismatch = 0, rpm = 0;
+      bool          transposed_known = false, transposed_kept = false;
+      bool          due = false; ///< checked at this speed
+    } product_check;
+    static constexpr unsigned int product_check_interval = 10;
+    unsigned int                  product_checks_skipped = 0;
+    /// true where this speed's products are to be checked (and the key
+    /// moved on)
+    bool
+    product_check_due(const double rpm);
     unsigned int full_solves = 0, reduced_solves = 0, reduced_refusals = 0, reduced_trials = 0;
     /// speeds served by an undamped anchor, and those whose undamped anchor
     /// failed the checks (then solved in full)

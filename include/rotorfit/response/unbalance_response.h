@@ -9,6 +9,7 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <array>
 #include <complex>
 #include <string>
 #include <vector>
@@ -83,6 +84,29 @@ namespace rotorfit
   class UnbalanceResponse
   {
   public:
+    /// Within one contact segment (SpeedOperators::segment) the kept
+    /// columns' D and K products follow the speed's affine share: their
+    /// products at the speed they were kept (kept_omega) and, made at the
+    /// first speed after, G and K_t2 times them (no sparse products per speed)
+    struct KeptProducts
+    {
+      unsigned int                        segment = 0;
+      double                              omega   = 0;
+      std::vector<dealii::Vector<double>> d, k, g, k2;
+      /// their projections, made once: V_h^T X and X^T (A V_h) (h x k,
+      /// column-major), e_c^T X_e (k x k) for X = M E, D_s E, G E, K_s E,
+      /// K_t2 E (and the head's five products); the head's tangent was made
+      /// at w_tangent
+      /// speeds served by this base and by all (served), the largest
+      /// mismatch against the sparse products where checked (every tenth
+      /// speed) and the bases dropped for it
+      unsigned int                       uses = 0, served = 0, refused = 0;
+      double                             worst = 0;
+      bool                               projected = false;
+      double                             w_tangent = 0;
+      std::array<std::vector<double>, 5> col, row, own;
+    };
+
     UnbalanceResponse(const Discretization &model, Log &log);
 
     static void
@@ -163,6 +187,7 @@ namespace rotorfit
     /// speed, so it rarely needs a new back-substitution)
     std::vector<dealii::Vector<double>>             kept, kept_m;
     std::pair<const ReducedBasis *, unsigned int>   kept_head{nullptr, 0};
+    KeptProducts                                    kept_products;
     std::vector<ResponseAtSpeed> history;
     unsigned int                 unconverged_speeds = 0;
     unsigned int                 reduced_speeds     = 0; ///< solved on the eigen reduced basis
