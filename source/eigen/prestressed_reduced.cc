@@ -428,7 +428,10 @@ namespace rotorfit
                          false, false, true};
         return true;
       }
-    c.due = ++c.speeds % product_check_interval == 0;
+    // also at the key's second speed: at its first the projections were
+    // just made there (w = w_tangent), so the K_t2 share went unchecked
+    ++c.speeds;
+    c.due = c.speeds == 1 || c.speeds % product_check_interval == 0;
     return c.due;
   }
 

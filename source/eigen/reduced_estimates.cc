@@ -207,10 +207,18 @@ namespace rotorfit
     // with C^T = C_b - omega G and K_t^T = K_t, where the sparse transposed
     // products on the sum of the left vectors agree (not so with
     // cross-coupled bearings: then the sparse products for each)
-    // (decided once per key of the products' check, where that check was
-    // made: the symmetry of C_b and K_t does not change with the speed)
+    // (with symmetric bearings C^T = C_b - Omega G and K_t^T = K_t hold by
+    // construction: decided with the products' check; cross-coupled ones
+    // at every speed, as the asymmetry's share changes with the speed)
+    bool symmetric_bearings = true;
+    for (unsigned int b = 0; b < bearings.size(); ++b)
+      {
+        Bearings::Coefficients k, c;
+        bearings.coefficients(b, last_rpm, k, c);
+        symmetric_bearings &= k[2] == k[3] && c[2] == c[3];
+      }
     auto &check = product_check;
-    if (!check.transposed_known || check.due)
+    if (!check.transposed_known || check.due || !symmetric_bearings)
       {
         check.transposed_kept =
           expanded({sum}, omega, w, true).mismatch(backward_error, true) <= product_tolerance;

@@ -56,6 +56,8 @@ namespace rotorfit
       if (p == 0 || q == 0)
         return {};
       const int n = a[0]->re.size(), rows = 2 * p, cols = 2 * q;
+      if (n == 0)
+        return std::vector<std::complex<double>>(p * q, 0.);
       for (const auto &list : {a, b})
         for (const ComplexVector *x : list)
           if (static_cast<int>(x->re.size()) != n || static_cast<int>(x->im.size()) != n)

@@ -1,5 +1,6 @@
 #include <rotorfit/response/projection_basis.h>
 
+#include <deal.II/base/mpi.h>
 #include <deal.II/lac/lapack_full_matrix.h>
 
 #include <algorithm>
@@ -274,6 +275,8 @@ namespace rotorfit
             }
         if (!std::isfinite(worst))
           worst = std::numeric_limits<double>::infinity();
+        // the same decision on every rank (the columns are replicated)
+        worst = Utilities::MPI::max(worst, op.mass.get_mpi_communicator());
         p.worst = std::max(p.worst, worst);
         if (!(worst <= 1e-6))
           {

@@ -60,7 +60,9 @@ namespace rotorfit
 
       /// Take columns kept from an earlier speed on the same head (already
       /// M-orthonormal to it and each other, @p mx their M products); their
-      /// products with this speed's D and K are made afresh.
+      /// products with this speed's D and K come from the affine share
+      /// kept in @p p within its contact segment (checked every tenth
+      /// speed), else afresh.
       void
       adopt(const std::vector<dealii::Vector<double>> &x,
             const std::vector<dealii::Vector<double>> &mx,

@@ -86,7 +86,7 @@ namespace rotorfit
   public:
     /// Within one contact segment (SpeedOperators::segment) the kept
     /// columns' D and K products follow the speed's affine share: their
-    /// products at the speed they were kept (kept_omega) and, made at the
+    /// products at the speed they were kept (omega) and, made at the
     /// first speed after, G and K_t2 times them (no sparse products per speed)
     struct KeptProducts
     {
