@@ -169,6 +169,19 @@ namespace rotorfit
     return false;
   }
 
+  bool
+  Bearings::symmetric(const double rpm, const bool damping_too) const
+  {
+    for (unsigned int n = 0; n < bearings.size(); ++n)
+      {
+        Coefficients k, c;
+        coefficients(n, rpm, k, c);
+        if (k[2] != k[3] || (damping_too && c[2] != c[3]))
+          return false;
+      }
+    return true;
+  }
+
   void
   Bearings::coefficients(const unsigned int n,
                          const double       rpm,

@@ -140,14 +140,7 @@ namespace rotorfit
                 << "): full solve, a new anchor\n";
           }
         // an undamped anchor where K_t is symmetric (LDL^T instead of LU)
-        bool symmetric = true;
-        for (unsigned int n = 0; n < bearings.size(); ++n)
-          {
-            Bearings::Coefficients k, c;
-            bearings.coefficients(n, state.rpm, k, c);
-            symmetric &= k[2] == k[3];
-          }
-        if (reduced.undamped_anchors() && symmetric)
+        if (reduced.undamped_anchors() && bearings.symmetric(state.rpm, false))
           {
             // on the last LDL^T where few ties changed since (a fit opening
             // pair by pair), else on a new one

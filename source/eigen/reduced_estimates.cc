@@ -210,15 +210,8 @@ namespace rotorfit
     // (with symmetric bearings C^T = C_b - Omega G and K_t^T = K_t hold by
     // construction: decided with the products' check; cross-coupled ones
     // at every speed, as the asymmetry's share changes with the speed)
-    bool symmetric_bearings = true;
-    for (unsigned int b = 0; b < bearings.size(); ++b)
-      {
-        Bearings::Coefficients k, c;
-        bearings.coefficients(b, last_rpm, k, c);
-        symmetric_bearings &= k[2] == k[3] && c[2] == c[3];
-      }
     auto &check = product_check;
-    if (!check.transposed_known || check.due || !symmetric_bearings)
+    if (!check.transposed_known || check.due || !bearings.symmetric(last_rpm, true))
       {
         check.transposed_kept =
           expanded({sum}, omega, w, true).mismatch(backward_error, true) <= product_tolerance;

@@ -73,6 +73,11 @@ namespace rotorfit
     bool
     speed_dependent() const;
 
+    /// Whether every bearing's stiffness (and, with @p damping_too, its
+    /// damping) is symmetric at @p rpm: k_xy = k_yx (c_xy = c_yx).
+    bool
+    symmetric(const double rpm, const bool damping_too) const;
+
     /// Add K_b and C_b at @p rpm into @p k and @p c (locally owned rows).
     void
     assemble(const double                              rpm,
