@@ -12,14 +12,19 @@
 
 namespace
 {
-  /// Large blocks in transparent huge pages: glibc asks for them
-  /// (madvise) only under the tunable glibc.malloc.hugetlb=1, which it reads
-  /// at start-up, so the process starts itself once more with it. The
-  /// factorisations, matrices and bases are fresh allocations of tens to
-  /// hundreds of MB; with 4 kB pages their first touch cost 7 % of a run at
-  /// rest on TS's benchmark mesh (benchmarks/README.md). Harmless where the
-  /// kernel gives no huge pages; ROTORFIT_HUGE_PAGES=0 keeps the default
-  /// (any value but 0 or 1 is warned about and taken as 0).
+  /// Large blocks in transparent huge pages, on request only
+  /// (ROTORFIT_HUGE_PAGES=1). The factorisations, matrices and bases are
+  /// fresh allocations of tens to hundreds of MB, so their first touch is a
+  /// run's page-fault time; which pages make it cheaper depends on the
+  /// host's state: on this project's machine huge pages made TS's benchmark
+  /// run 8 % faster one day and 27 % slower another (27 % of the main
+  /// thread in the kernel's page clearing; a block of 200 MB touched at
+  /// 0.4 GB/s in huge pages against 2.5 GB/s in 4 kB ones, while 32 MB
+  /// blocks took 7 GB/s: no quick probe at start-up tells which), with the
+  /// same peak (benchmarks/README.md). glibc asks for them (madvise) only
+  /// under the tunable glibc.malloc.hugetlb=1, which it reads at start-up,
+  /// so the process then starts itself once more with it. Any value but 0
+  /// or 1 is warned about and taken as 0.
   void
   restart_with_huge_pages(char **argv)
   {
@@ -35,7 +40,7 @@ namespace
       }
     // (once: a loader that drops the tunable, as for set-uid programs,
     // must not make this a loop)
-    if ((choice && std::strcmp(choice, "0") == 0) || std::getenv("ROTORFIT_RESTARTED") ||
+    if (!choice || std::strcmp(choice, "0") == 0 || std::getenv("ROTORFIT_RESTARTED") ||
         (tunables && std::strstr(tunables, "glibc.malloc.hugetlb")))
       return;
     setenv("ROTORFIT_RESTARTED", "1", 1);
