@@ -4,7 +4,9 @@
  *   /tmp/first_touch MB ROUNDS
  * prints the write rate of the fresh block and the unmap time per block,
  * 4 kB pages first, then huge pages (benchmarks/README.md, "Huge pages
- * revisited"). */
+ * revisited"). The 4 kB pass measures 4 kB pages only where the kernel's
+ * mode (/sys/kernel/mm/transparent_hugepage/enabled) is madvise or never. */
+#define _GNU_SOURCE
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -29,6 +31,11 @@ main(int argc, char **argv)
     }
   const size_t bytes  = (size_t)atoi(argv[1]) << 20;
   const int    rounds = atoi(argv[2]);
+  if (bytes == 0 || rounds <= 0)
+    {
+      fprintf(stderr, "MB and ROUNDS must be positive\n");
+      return 1;
+    }
   for (int huge = 0; huge < 2; ++huge)
     {
       double touch = 0, unmap = 0;

@@ -13,18 +13,12 @@
 namespace
 {
   /// Large blocks in transparent huge pages, on request only
-  /// (ROTORFIT_HUGE_PAGES=1). The factorisations, matrices and bases are
-  /// fresh allocations of tens to hundreds of MB, so their first touch is a
-  /// run's page-fault time; which pages make it cheaper depends on the
-  /// host's state: on this project's machine huge pages made TS's benchmark
-  /// run 8 % faster one day and 27 % slower another (27 % of the main
-  /// thread in the kernel's page clearing; a block of 200 MB touched at
-  /// 0.4 GB/s in huge pages against 2.5 GB/s in 4 kB ones, while 32 MB
-  /// blocks took 7 GB/s: no quick probe at start-up tells which), with the
-  /// same peak (benchmarks/README.md). glibc asks for them (madvise) only
-  /// under the tunable glibc.malloc.hugetlb=1, which it reads at start-up,
-  /// so the process then starts itself once more with it. Any value but 0
-  /// or 1 is warned about and taken as 0.
+  /// (ROTORFIT_HUGE_PAGES=1): whether they pay depends on the host's state
+  /// (TS: 8 % faster one day, 27 % slower another; benchmarks/README.md,
+  /// "Huge pages revisited"). glibc asks for them (madvise) only under the
+  /// tunable glibc.malloc.hugetlb=1, read at start-up, so the process then
+  /// starts itself once more with it. Any value but 0 or 1 is warned about
+  /// and taken as 0.
   void
   restart_with_huge_pages(char **argv)
   {
