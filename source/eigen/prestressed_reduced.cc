@@ -119,8 +119,8 @@ namespace rotorfit
           std::vector<double> X(n * x.size());
           for (std::size_t j = 0; j < x.size(); ++j)
             std::copy(x[j]->begin(), x[j]->end(), X.begin() + j * n);
-          const std::vector<double> *blocks[5] = {&av_mass, &av_bearing_c, &av_gyro, &av_tangent,
-                                                  &av_tangent2};
+          const RowBlock *blocks[5] = {&av_mass, &av_bearing_c, &av_gyro, &av_tangent,
+                                       &av_tangent2};
           for (unsigned int b = 0; b < 5; ++b)
             {
               parts[b].assign(reduced.size() * x.size(), 0.);
@@ -218,7 +218,7 @@ namespace rotorfit
   PrestressedEigenproblem::free_products()
   {
     for (auto *av : {&av_mass, &av_gyro, &av_tangent, &av_tangent2, &av_bearing_c})
-      std::vector<double>().swap(*av);
+      av->clear();
     key_basis = key_tangent = key_bearing = ProjectionKey{~0u, 0, -1};
     resources::give_back_free_memory();
   }
@@ -326,12 +326,19 @@ namespace rotorfit
         }
       reduced.add(pointers(second), matrices.mass);
     }
+    // the vectors are in the basis now: not held through the reduced solve,
+    // a run's memory peak on TS (the 23,000 r/min anchor: 20 .. 26 of them)
+    const double top_mu   = std::max(0., modes[found - 1].mu);
+    double       residual = 0;
+    for (std::size_t i = 0; i < found; ++i)
+      residual = std::max(residual, modes[i].residual);
+    std::vector<DampedEigensolver::UndampedMode>().swap(modes);
     // the damped modes of this speed outside the basis come from undamped
     // ones above the top found, moved by the gyroscopic and damping terms:
     // at most the slope bound times the spin (damping assumed light)
     const double sigma  = eigensolver.shift();
     const double omega  = SpeedSchedule::rpm_to_rad_per_s(state.rpm);
-    const double top    = std::sqrt(std::max(0., modes[found - 1].mu) + sigma * sigma);
+    const double top    = std::sqrt(top_mu + sigma * sigma);
     // on an update the modes are those of the factorised speed's stiffening:
     // the lines may have moved by the slope bound since that speed as well
     const double since =
@@ -339,12 +346,9 @@ namespace rotorfit
     reduced.anchors.push_back({state.rpm, top - reduced.slope_bound() * (omega + since)});
     if (lasting)
       gram_eager_version = reduced.version();
-    double residual = 0;
-    for (std::size_t i = 0; i < found; ++i)
-      residual = std::max(residual, modes[i].residual);
     std::ostringstream line; // (its precision must not stick to the log)
     line << "  eigen: undamped anchor: " << found << " modes up to " << std::setprecision(5)
-        << std::sqrt(std::max(0., modes[found - 1].mu)) / (2 * M_PI) << " Hz, max residual "
+        << std::sqrt(top_mu) / (2 * M_PI) << " Hz, max residual "
         << std::setprecision(2) << residual << "; ";
     if (stats.block_size > 1)
       line << "block Lanczos " << stats.requested << " of " << stats.krylov_size << ", "
@@ -397,10 +401,9 @@ namespace rotorfit
             p_tangent2 = reduced.project(k_sigma_C, &av_tangent2);
             if (convective_term && !convective_folded) // (folded: in k_sigma_C)
               {
-                std::vector<double> convective;
+                RowBlock convective;
                 p_tangent2.add(-1., reduced.project(matrices.convective, &convective));
-                for (std::size_t i = 0; i < convective.size(); ++i)
-                  av_tangent2[i] -= convective[i];
+                av_tangent2.add(-1., convective);
               }
           }
         p_tangent0        = reduced.project(tangent, &av_tangent);

@@ -228,18 +228,20 @@ namespace rotorfit
   }
 
   void
-  ReducedBasis::multiply(const std::vector<double>                            *P,
+  ReducedBasis::multiply(const RowBlock                                       *P,
                          const std::vector<std::vector<std::complex<double>>> &y,
                          const double                                          a,
                          const std::vector<ComplexVector *>                   &z) const
   {
-    const std::vector<double> &A = P ? *P : flat;
-    const int                  m = columns, k = y.size();
-    if (m == 0 || k == 0 || A.empty())
+    const int m = columns, k = y.size();
+    if (m == 0 || k == 0 || (P ? P->empty() : flat.empty()))
       return;
-    // one pass over A: [A y_re | A y_im] = A [Y_re | Y_im] (dgemm)
-    const int           n = A.size() / m, two_k = 2 * k;
-    std::vector<double> b(static_cast<std::size_t>(m) * two_k), out(std::size_t(n) * two_k);
+    // one pass over A: [A y_re | A y_im] = A [Y_re | Y_im] (dgemm) on the
+    // rows A keeps, added into those rows of z
+    const double *A = P ? P->data().data() : flat.data();
+    const int     r = P ? P->n_rows() : rows, n = rows, two_k = 2 * k;
+    const std::vector<unsigned int> *kept = P && !P->dense() ? &P->kept_rows() : nullptr;
+    std::vector<double> b(static_cast<std::size_t>(m) * two_k), out(std::size_t(r) * two_k);
     for (int c = 0; c < k; ++c)
       for (int j = 0; j < m; ++j)
         {
@@ -247,38 +249,24 @@ namespace rotorfit
           b[j + std::size_t(k + c) * m] = y[c][j].imag();
         }
     const double one = 1, zero = 0;
-    dgemm_("N", "N", &n, &two_k, &m, &one, A.data(), &n, b.data(), &m, &zero, out.data(), &n);
+    dgemm_("N", "N", &r, &two_k, &m, &one, A, &r, b.data(), &m, &zero, out.data(), &r);
     for (int c = 0; c < k; ++c)
       {
         ComplexVector &t = *z[c];
         if (t.re.size() != static_cast<std::size_t>(n))
           t = {Vector<double>(n), Vector<double>(n)};
-        const double *re = out.data() + std::size_t(c) * n, *im = re + std::size_t(k) * n;
-        for (int i = 0; i < n; ++i)
+        const double *re = out.data() + std::size_t(c) * r, *im = re + std::size_t(k) * r;
+        for (int i = 0; i < r; ++i)
           {
-            t.re[i] += a * re[i];
-            t.im[i] += a * im[i];
+            const std::size_t row = kept ? (*kept)[i] : i;
+            t.re[row] += a * re[i];
+            t.im[row] += a * im[i];
           }
       }
   }
 
   void
-  ReducedBasis::apply_transpose(const std::vector<double> &P,
-                                const Vector<double>      &x,
-                                const double               a,
-                                std::vector<double>       &c) const
-  {
-    const int m = columns;
-    c.resize(m, 0.);
-    if (m == 0 || P.empty())
-      return;
-    const int    n = P.size() / m, one = 1;
-    const double plus = 1;
-    dgemv_("T", &n, &m, &a, P.data(), &n, x.data(), &one, &plus, c.data(), &one);
-  }
-
-  void
-  ReducedBasis::apply_transpose(const std::vector<double> &P,
+  ReducedBasis::apply_transpose(const RowBlock            &P,
                                 const std::vector<double> &X,
                                 const double               a,
                                 std::vector<double>       &C) const
@@ -286,16 +274,18 @@ namespace rotorfit
     const int m = columns;
     if (m == 0 || P.empty() || X.empty())
       return;
-    const int n = P.size() / m, k = X.size() / n;
+    const int k = X.size() / rows, r = P.n_rows();
     if (C.size() != std::size_t(m) * k)
       C.assign(std::size_t(m) * k, 0.);
-    const double plus = 1;
-    dgemm_("T", "N", &m, &k, &n, &a, P.data(), &n, X.data(), &n, &plus, C.data(), &m);
+    std::vector<double> rows_of_x; // X at P's rows (X itself where P is dense)
+    P.gather(X.data(), k, rows_of_x);
+    const double  plus = 1;
+    const double *x    = P.dense() ? X.data() : rows_of_x.data();
+    dgemm_("T", "N", &m, &k, &r, &a, P.data().data(), &r, x, &r, &plus, C.data(), &m);
   }
 
   FullMatrix<double>
-  ReducedBasis::project(const PETScWrappers::MPI::SparseMatrix &A,
-                        std::vector<double>                    *products) const
+  ReducedBasis::project(const PETScWrappers::MPI::SparseMatrix &A, RowBlock *products) const
   {
     const int m = columns;
     FullMatrix<double> P(m, m);
@@ -311,7 +301,7 @@ namespace rotorfit
       for (int j = 0; j < m; ++j)
         P(i, j) = p[i + std::size_t(j) * m];
     if (products)
-      *products = std::move(av);
+      products->assign(std::move(av), n);
     return P;
   }
 

@@ -51,13 +51,16 @@ namespace rotorfit
     return v.empty() ? 0. : backward_error.mismatch(sum[0], sum[1], sum[2], sum[3], transpose);
   }
 
-  std::vector<const std::vector<double> *>
+  std::vector<const RowBlock *>
   PrestressedEigenproblem::residual_blocks() const
   {
-    std::vector<const std::vector<double> *> blocks;
-    for (const auto *P : {&av_mass, &av_bearing_c, &av_gyro, &av_tangent, &av_tangent2})
-      if (std::any_of(P->begin(), P->end(), [](const double a) { return a != 0; }))
-        blocks.push_back(P);
+    // those kept by their rows last: the Gram matrix back-substitutes them
+    // as sparse right-hand sides, the others in blocks across them
+    std::vector<const RowBlock *> blocks;
+    for (const bool dense : {true, false})
+      for (const auto *P : {&av_mass, &av_bearing_c, &av_gyro, &av_tangent, &av_tangent2})
+        if (!P->empty() && P->dense() == dense) // (a product zero everywhere keeps nothing)
+          blocks.push_back(P);
     return blocks;
   }
 
@@ -87,7 +90,7 @@ namespace rotorfit
     const std::size_t          n = matrices.mass.m();
     std::vector<ComplexVector> r(y.size(), ComplexVector{Vector<double>(n), Vector<double>(n)});
     const auto z = column_pointers(r);
-    const std::vector<double> *P[5] = {&av_mass, &av_bearing_c, &av_gyro, &av_tangent, &av_tangent2};
+    const RowBlock *P[5] = {&av_mass, &av_bearing_c, &av_gyro, &av_tangent, &av_tangent2};
     std::vector<std::vector<std::complex<double>>> scaled(y);
     for (unsigned int k = 0; k < 5; ++k)
       {
@@ -108,18 +111,20 @@ namespace rotorfit
                                                  const double                             omega,
                                                  const double                             w,
                                                  const bool transpose,
-                                                 const std::vector<const std::vector<double> *> &blocks) const
+                                                 const std::vector<const RowBlock *> &blocks) const
   {
     // Q(lambda) V y = lambda^2 M V y + lambda (C_b V + omega G V) y +
     // (K_t V + (w - w_tangent) K_t2 V) y, as expanded() makes it; its
     // transpose with conj(lambda) and C_b - omega G
     const auto                 a    = residual_factors(lambda, omega, w - w_tangent, transpose);
-    const std::vector<double> *P[5] = {&av_mass, &av_bearing_c, &av_gyro, &av_tangent, &av_tangent2};
+    const RowBlock *P[5] = {&av_mass, &av_bearing_c, &av_gyro, &av_tangent, &av_tangent2};
     std::vector<std::complex<double>> x;
-    for (unsigned int k = 0; k < 5; ++k)
-      if (std::find(blocks.begin(), blocks.end(), P[k]) != blocks.end())
+    for (const auto *block : blocks) // (in the blocks' order, as the Gram matrix's)
+      {
+        const auto k = std::find(P, P + 5, block) - P;
         for (const auto &c : y)
           x.push_back(a[k] * c);
+      }
     return x;
   }
 
@@ -136,7 +141,7 @@ namespace rotorfit
       {
         const auto t0 = std::chrono::steady_clock::now();
         // S^-1 K_t V = V - sigma^2 S^-1 M V where S is this tangent's
-        const auto at = [&](const std::vector<double> &P) {
+        const auto at = [&](const RowBlock &P) {
           return std::find(gram.blocks.begin(), gram.blocks.end(), &P) - gram.blocks.begin();
         };
         const bool same_tangent =
@@ -148,7 +153,7 @@ namespace rotorfit
                                     -eigensolver.shift() * eigensolver.shift()};
         gram.g = replicated_inverse_gram(eigensolver.linear_solver(), matrices.mass, gram.blocks,
                                          same_tangent ? &shortcut : nullptr);
-        gram.e = replicated_gram(gram.blocks, matrices.mass.m(), comm);
+        gram.e = replicated_gram(gram.blocks, comm);
         gram.seconds  = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         gram.checked  = false;
       }

@@ -204,47 +204,109 @@ namespace rotorfit
       [&](const PetscInt j) { return x[j].data(); });
   }
 
+  namespace
+  {
+    /// X = A^-1 of the columns first .. first + c - 1 of @p P (kept by its
+    /// rows), given to MUMPS as sparse right-hand sides: it skips the zeros
+    /// of the forward substitution. One rank (DirectSolver::solve_sparse).
+    void
+    solve_kept_rows(const DirectSolver &solver,
+                    const MPI_Comm      comm,
+                    const RowBlock     &P,
+                    const std::size_t   first,
+                    const int           c,
+                    double             *X)
+    {
+      const PetscInt               n = P.size(), r = P.n_rows();
+      const auto                  &rows = P.kept_rows();
+      std::vector<PetscInt>        columns(rows.begin(), rows.end());
+      const std::vector<PetscInt>  nonzeros(c, r);
+      Mat                          Bt, Y;
+      const auto check = [](const PetscErrorCode code) {
+        AssertThrow(code == 0, ExcMessage("PETSc failed on the sparse right-hand sides"));
+      };
+      check(MatCreateSeqAIJ(comm, c, n, 0, nonzeros.data(), &Bt));
+      for (PetscInt j = 0; j < c; ++j)
+        check(MatSetValues(Bt, 1, &j, r, columns.data(), P.data().data() + (first + j) * r,
+                           INSERT_VALUES));
+      check(MatAssemblyBegin(Bt, MAT_FINAL_ASSEMBLY));
+      check(MatAssemblyEnd(Bt, MAT_FINAL_ASSEMBLY));
+      check(MatCreateDense(comm, n, PETSC_DECIDE, n, c, X, &Y));
+      solver.solve_sparse(Y, Bt);
+      MatDestroy(&Bt);
+      MatDestroy(&Y);
+    }
+  } // namespace
+
   std::vector<double>
-  replicated_inverse_gram(const DirectSolver                             &solver,
-                          const PETScWrappers::MPI::SparseMatrix         &layout,
-                          const std::vector<const std::vector<double> *> &blocks,
-                          const GramShortcut                             *shortcut)
+  replicated_inverse_gram(const DirectSolver                     &solver,
+                          const PETScWrappers::MPI::SparseMatrix &layout,
+                          const std::vector<const RowBlock *>    &blocks,
+                          const GramShortcut                     *shortcut)
   {
     // the columns of all blocks in one numbering: block k holds columns
     // first[k] .. first[k + 1] - 1
     const int           n = layout.m();
     std::vector<int>    first{0};
     for (const auto *P : blocks)
-      first.push_back(first.back() + P->size() / n);
+      first.push_back(first.back() + P->n_columns());
     const int           b = first.back();
-    std::vector<double> G(std::size_t(b) * b, 0.), X;
+    std::vector<double> G(std::size_t(b) * b, 0.), X, expanded, rows_of_x;
     const auto block_of = [&](const int j) {
       return std::upper_bound(first.begin(), first.end(), j) - first.begin() - 1;
     };
-    const auto column = [&](const int j) {
-      const auto k = block_of(j);
-      return blocks[k]->data() + std::size_t(j - first[k]) * n;
-    };
+    const auto sparse = [&](const int j) { return !blocks[block_of(j)]->dense(); };
     const bool use_shortcut = shortcut && shortcut->source < shortcut->target &&
                               shortcut->target < blocks.size() &&
                               first[shortcut->source + 1] - first[shortcut->source] ==
                                 first[shortcut->target + 1] - first[shortcut->target] &&
-                              shortcut->base->size() == blocks[shortcut->target]->size();
+                              blocks[shortcut->target]->dense() &&
+                              shortcut->base->size() == blocks[shortcut->target]->data().size();
     std::vector<double> kept_source; // A^-1 P_source, for the target's columns
     if (use_shortcut)
-      kept_source.resize(blocks[shortcut->source]->size());
+      kept_source.resize(std::size_t(n) * (first[shortcut->source + 1] - first[shortcut->source]));
     // blocks of right-hand sides (a block's back-substitution costs about a
-    // sixth of as many single ones on TS), each multiplied by every block
+    // sixth of as many single ones on TS), each multiplied by every block.
+    // A chunk holds columns of either kind: those of a block kept by its
+    // rows go to MUMPS as sparse right-hand sides on one rank (no n-long
+    // copies), else expanded to n a few at a time
+    const bool    one_rank = Utilities::MPI::n_mpi_processes(layout.get_mpi_communicator()) == 1;
     constexpr int chunk = 32;
-    for (int start = 0; start < b; start += chunk)
+    const int     sparse_chunk = one_rank ? chunk : 8;
+    for (int start = 0, c = 0; start < b; start += c)
       {
-        const int c = std::min(chunk, b - start);
+        c = std::min(chunk, b - start);
+        if (sparse(start))
+          c = std::min({sparse_chunk, c, first[block_of(start) + 1] - start});
+        else
+          for (int j = start + 1; j < start + c; ++j)
+            if (sparse(j))
+              {
+                c = j - start;
+                break;
+              }
         X.resize(std::size_t(n) * c);
+        if (sparse(start) && one_rank)
+          solve_kept_rows(solver, layout.get_mpi_communicator(), *blocks[block_of(start)],
+                          start - first[block_of(start)], c, X.data());
+        else if (sparse(start))
+          {
+            const auto k = block_of(start);
+            expanded.resize(std::size_t(n) * c);
+            for (int j = 0; j < c; ++j)
+              blocks[k]->expand_column(start + j - first[k], expanded.data() + std::size_t(j) * n);
+          }
+        const auto column = [&](const int j) {
+          const auto k = block_of(j);
+          return sparse(j) ? expanded.data() + std::size_t(j - start) * n :
+                             blocks[k]->data().data() + std::size_t(j - first[k]) * n;
+        };
         std::vector<int> solved, known;
         for (int j = 0; j < c; ++j)
           (use_shortcut && std::size_t(block_of(start + j)) == shortcut->target ? known : solved)
             .push_back(j);
-        solve_columns(
+        if (!(sparse(start) && one_rank))
+          solve_columns(
           solver, layout, solved.size(), [&](const PetscInt i) { return column(start + solved[i]); },
           [&](const PetscInt i) { return X.data() + std::size_t(solved[i]) * n; });
         // (the source columns of this chunk first: they may be needed in it)
@@ -266,10 +328,13 @@ namespace rotorfit
         const double one = 1, zero = 0;
         for (std::size_t k = 0; k < blocks.size(); ++k)
           {
-            const int rows = first[k + 1] - first[k];
-            if (rows > 0)
-              dgemm_("T", "N", &rows, &c, &n, &one, blocks[k]->data(), &n, X.data(), &n, &zero,
-                     G.data() + first[k] + std::size_t(start) * b, &b);
+            const int columns = first[k + 1] - first[k], r = blocks[k]->n_rows();
+            if (columns == 0)
+              continue;
+            blocks[k]->gather(X.data(), c, rows_of_x);
+            dgemm_("T", "N", &columns, &c, &r, &one, blocks[k]->data().data(), &r,
+                   blocks[k]->dense() ? X.data() : rows_of_x.data(), &r, &zero,
+                   G.data() + first[k] + std::size_t(start) * b, &b);
           }
       }
     // every rank takes the same decisions from it
@@ -278,23 +343,38 @@ namespace rotorfit
   }
 
   std::vector<double>
-  replicated_gram(const std::vector<const std::vector<double> *> &blocks,
-                  const std::size_t                               n,
-                  const MPI_Comm                                  comm)
+  replicated_gram(const std::vector<const RowBlock *> &blocks, const MPI_Comm comm)
   {
     std::vector<int> first{0};
     for (const auto *P : blocks)
-      first.push_back(first.back() + P->size() / n);
-    const int           b = first.back(), rows = n;
-    std::vector<double> G(std::size_t(b) * b, 0.);
+      first.push_back(first.back() + P->n_columns());
+    const int           b = first.back();
+    std::vector<double> G(std::size_t(b) * b, 0.), rows_of_other;
     const double        one = 1, zero = 0;
     for (std::size_t k = 0; k < blocks.size(); ++k)
       for (std::size_t l = k; l < blocks.size(); ++l)
         {
           const int mk = first[k + 1] - first[k], ml = first[l + 1] - first[l];
-          if (mk > 0 && ml > 0)
-            dgemm_("T", "N", &mk, &ml, &rows, &one, blocks[k]->data(), &rows, blocks[l]->data(),
-                   &rows, &zero, G.data() + first[k] + std::size_t(first[l]) * b, &b);
+          if (mk == 0 || ml == 0)
+            continue;
+          // over the rows of the block that keeps fewer (the other's rows
+          // there; zero where it keeps none): P_k^T P_l = P_l^T P_k ^T
+          const bool own_rows = blocks[k]->n_rows() <= blocks[l]->n_rows();
+          const RowBlock &a = own_rows ? *blocks[k] : *blocks[l],
+                         &o = own_rows ? *blocks[l] : *blocks[k];
+          const int       r = a.n_rows();
+          const double   *other = o.data().data();
+          if (!(a.dense() && o.dense()) && a.kept_rows() != o.kept_rows())
+            {
+              a.rows_of(o, rows_of_other);
+              other = rows_of_other.data();
+            }
+          if (own_rows)
+            dgemm_("T", "N", &mk, &ml, &r, &one, a.data().data(), &r, other, &r, &zero,
+                   G.data() + first[k] + std::size_t(first[l]) * b, &b);
+          else
+            dgemm_("T", "N", &mk, &ml, &r, &one, other, &r, a.data().data(), &r, &zero,
+                   G.data() + first[k] + std::size_t(first[l]) * b, &b);
         }
     for (int j = 0; j < b; ++j) // the lower triangle from the upper
       for (int i = j + 1; i < b; ++i)

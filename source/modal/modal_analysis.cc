@@ -87,9 +87,10 @@ namespace rotorfit
   }
 
   void
-  ModalAnalysis::solve_crossings(const StaticState &state, PrestressedEigenproblem &eigen)
+  ModalAnalysis::solve_crossings(const StaticState                                         &state,
+                                 PrestressedEigenproblem                                   &eigen,
+                                 const std::function<void(unsigned int, EigenSolution &&)> &solved)
   {
-    crossing_solutions.assign(result.crossings.size(), EigenSolution());
     for (unsigned int i = 0; i < result.crossings.size(); ++i)
       {
         auto      &c    = result.crossings[i];
@@ -113,8 +114,6 @@ namespace rotorfit
             c.frequency_hz  = root.lambda.imag() / (2 * M_PI);
             c.damping_ratio = -root.lambda.real() / std::abs(root.lambda);
           }
-        if (!root.solution.elastic.empty() && root.solution.rpm == c.rpm)
-          crossing_solutions[i] = std::move(root.solution);
         if (!c.solved)
           ++n_unsolved;
         log << "  critical speed: line " << c.tracked_id << " (" << c.whirl << ") meets " << k
@@ -123,6 +122,10 @@ namespace rotorfit
             << root.evaluations << " eigen solves, " << root.trials << " unchecked trials"
             << (c.solved ? "" : "; NOT converged, the last trial is kept") << ")\n"
             << std::setprecision(6);
+        if (solved)
+          solved(i, !root.solution.elastic.empty() && root.solution.rpm == c.rpm ?
+                      std::move(root.solution) :
+                      EigenSolution());
       }
   }
 

@@ -64,14 +64,15 @@ namespace rotorfit
             {
               // after the response: the trials replace the speed's matrices
               TimerOutput::Scope t(timer, "critical speeds (root solve)");
-              modal.solve_crossings(state, eigen);
+              modal.solve_crossings(state, eigen, [&](const unsigned int i, EigenSolution &&s) {
+                if (results.shapes_at_critical_speeds())
+                  write_critical_shapes(state, i, std::move(s));
+              });
             }
             {
               TimerOutput::Scope t(timer, "modal analysis + output");
               results.add(state, modal.last_result());
             }
-            if (results.shapes_at_critical_speeds())
-              write_critical_shapes(state);
             ++modal_steps;
             {
               // a damping ratio that changed sign: root solve in the speed
@@ -92,28 +93,37 @@ namespace rotorfit
   }
 
   void
-  RotorProblem::write_critical_shapes(const StaticState &state)
+  RotorProblem::write_critical_shapes(const StaticState &state,
+                                      const unsigned int i,
+                                      EigenSolution    &&solution)
   {
-    // the crossings since the previous speed, solved at their own speed on
-    // this speed's contact law (as the stability onsets are)
-    TimerOutput::Scope t(timer, "mode shapes at critical speeds");
-    const auto        &crossings = modal.last_result().crossings;
-    for (unsigned int i = 0; i < crossings.size(); ++i)
+    // crossing i since the previous speed, solved at its own speed on this
+    // speed's contact law (as the stability onsets are); its time is its own,
+    // not the root solve's it is called from
+    struct Pause
+    {
+      TimerOutput &timer;
+      const char  *name;
+      ~Pause()
       {
-        StaticState trial = state;
-        trial.rpm         = crossings[i].rpm;
-        try
-          {
-            // the root solve's checked solve at that speed, else a new one
-            EigenSolution s = modal.take_crossing_solution(i);
-            results.add_critical(trial, modal.classify(s.elastic.empty() ? eigen.solve(trial) :
-                                                                           std::move(s)));
-          }
-        catch (const SolverFailure &e)
-          {
-            log << "Warning: no mode shapes at the critical speed " << format_number(trial.rpm)
-                << " r/min: the eigensolver failed there (" << e.what() << ").\n";
-          }
+        timer.enter_subsection(name);
+      }
+    } pause{timer, "critical speeds (root solve)"};
+    timer.leave_subsection(pause.name);
+    TimerOutput::Scope t(timer, "mode shapes at critical speeds");
+    StaticState        trial = state;
+    trial.rpm                = modal.last_result().crossings[i].rpm;
+    try
+      {
+        // the root solve's checked solve at that speed, else a new one
+        results.add_critical(trial, modal.classify(solution.elastic.empty() ?
+                                                     eigen.solve(trial) :
+                                                     std::move(solution)));
+      }
+    catch (const SolverFailure &e)
+      {
+        log << "Warning: no mode shapes at the critical speed " << format_number(trial.rpm)
+            << " r/min: the eigensolver failed there (" << e.what() << ").\n";
       }
   }
 

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <rotorfit/linear_algebra/direct_solver.h>
+#include <rotorfit/linear_algebra/row_block.h>
 
 #include <deal.II/base/index_set.h>
 #include <deal.II/base/parameter_handler.h>
@@ -319,23 +320,21 @@ namespace rotorfit
 
   /// G = P^T A^-1 P (column-major, the same on every rank) for
   /// the replicated columns of the blocks P = [P_1 .. P_b] (each n x m_k,
-  /// column-major), A factorised by @p solver (LDL^T or LU): the inner
+  /// dense or by its nonzero rows; the target of @p shortcut dense), A factorised by @p solver (LDL^T or LU): the inner
   /// products of the columns with A^-1, so that |(P x)^H A^-1 (P x)| =
   /// |x^H G x| needs no back-substitution (inverse_norm_sqr). With
   /// @p shortcut its target block's columns are not back-substituted.
   std::vector<double>
   replicated_inverse_gram(const DirectSolver                             &solver,
                           const dealii::PETScWrappers::MPI::SparseMatrix &layout,
-                          const std::vector<const std::vector<double> *> &blocks,
+                          const std::vector<const RowBlock *>            &blocks,
                           const GramShortcut                             *shortcut = nullptr);
 
   /// G = P^T P (column-major, rank 0's on every rank) for the blocks
-  /// P = [P_1 .. P_b] of replicated columns (each n x m_k, column-major):
+  /// P = [P_1 .. P_b] of replicated columns (each n x m_k):
   /// |P x|^2 = x^H G x without the n-long vector P x.
   std::vector<double>
-  replicated_gram(const std::vector<const std::vector<double> *> &blocks,
-                  std::size_t                                     n,
-                  MPI_Comm                                        comm);
+  replicated_gram(const std::vector<const RowBlock *> &blocks, MPI_Comm comm);
 
   /// |x^H G x| for the real G of replicated_inverse_gram().
   double

@@ -261,7 +261,7 @@ namespace rotorfit
     /// The kept products A V whose columns span every residual of a reduced
     /// speed on the current projections: M, C_b, G, K_t, K_t2 (empty and
     /// zero ones left out; the coefficients of residual_coefficients()).
-    std::vector<const std::vector<double> *>
+    std::vector<const RowBlock *>
     residual_blocks() const;
     /// x with Q(lambda) V y = [A_1 V .. A_b V] x for @p blocks, those of
     /// residual_blocks() (the left residual Q(lambda)^H V y with @p transpose).
@@ -271,7 +271,7 @@ namespace rotorfit
                           double                                   omega,
                           double                                   w,
                           bool                                     transpose,
-                          const std::vector<const std::vector<double> *> &blocks) const;
+                          const std::vector<const RowBlock *> &blocks) const;
     /// A full solve's converged eigenvectors into the basis.
     void
     add_anchor(const double rpm, const std::vector<EigenPair> &pairs, const bool lasting);
@@ -369,9 +369,10 @@ namespace rotorfit
     /// the reduced C and K_t of the latest speed, if it was solved reduced
     dealii::FullMatrix<double> speed_Cr, speed_Kr;
     bool                       speed_reduced = false;
-    /// A V of the projections (column-major), the tangent's at w_tangent:
-    /// a reduced speed's residuals and the response are made of them
-    std::vector<double> av_mass, av_gyro, av_tangent, av_tangent2, av_bearing_c;
+    /// A V of the projections, the tangent's at w_tangent: a reduced
+    /// speed's residuals and the response are made of them (C_b V by the
+    /// bearings' rows alone)
+    RowBlock            av_mass, av_gyro, av_tangent, av_tangent2, av_bearing_c;
     double              w_tangent = 0;
     /// assemblies of the tangent so far, the one av_tangent was made of, and
     /// (factorisation count, tangent) of the latest undamped anchor's S =
@@ -396,7 +397,7 @@ namespace rotorfit
     struct ResidualGram
     {
       std::vector<double>                      g;
-      std::vector<const std::vector<double> *> blocks; ///< residual_blocks()
+      std::vector<const RowBlock *> blocks; ///< residual_blocks()
       /// basis version, K_sigma serial, tangent and bearing speeds,
       /// factorisations: what it was made for
       std::tuple<unsigned int, unsigned int, double, double, unsigned int> key{~0u, 0, -1, -1, 0};

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <rotorfit/eigen/damped_eigensolver.h>
+#include <rotorfit/linear_algebra/row_block.h>
 
 #include <deal.II/base/parameter_handler.h>
 
@@ -132,30 +133,24 @@ namespace rotorfit
     std::vector<double>
     coefficients(const std::vector<const dealii::Vector<double> *> &x) const;
 
-    /// V^T A V; with @p products also A V (n x m, column-major).
+    /// V^T A V; with @p products also A V (by its nonzero rows where few are).
     dealii::FullMatrix<double>
     project(const dealii::PETScWrappers::MPI::SparseMatrix &A,
-            std::vector<double>                            *products = nullptr) const;
+            RowBlock                                       *products = nullptr) const;
 
     /// z_c += a P y_c for every column y_c (one dgemm, one pass over P):
     /// P = A V kept by project(), or V itself for P = nullptr; a z_c of
     /// the wrong size is first set to zero of size n.
     void
-    multiply(const std::vector<double>                            *P,
+    multiply(const RowBlock                                       *P,
              const std::vector<std::vector<std::complex<double>>> &y,
              const double                                          a,
              const std::vector<ComplexVector *>                   &z) const;
 
-    /// c += a P^T x (= a (A V)^T x) for products P kept by project().
-    void
-    apply_transpose(const std::vector<double>    &P,
-                    const dealii::Vector<double> &x,
-                    const double                  a,
-                    std::vector<double>          &c) const;
     /// C += a P^T X for the columns X (n x k, column-major; C m x k, set to
     /// zero first if of another size): one pass over P for all columns.
     void
-    apply_transpose(const std::vector<double> &P,
+    apply_transpose(const RowBlock            &P,
                     const std::vector<double> &X,
                     const double               a,
                     std::vector<double>       &C) const;

@@ -11,6 +11,8 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <functional>
+
 #include <vector>
 
 namespace rotorfit
@@ -60,16 +62,14 @@ namespace rotorfit
     /// The crossings of the last analyse() solved for their speed: a root
     /// of f - k rpm / 60 of the line, by solve_line_root on @p state's law
     /// (the eigenproblem's matrices are those of the last trial afterwards).
+    /// @p solved gets crossing i's checked eigen solve at its speed as soon
+    /// as it is found (empty if the root solve had none there), to write and
+    /// let go: one crossing's mode vectors are held at a time (TS: two
+    /// crossings kept for the end of the step were its memory peak).
     void
-    solve_crossings(const StaticState &state, PrestressedEigenproblem &eigen);
-
-    /// The checked eigen solve at crossing @p i of the last solve_crossings()
-    /// (moved out; empty if the root solve had none at its speed).
-    EigenSolution
-    take_crossing_solution(const unsigned int i)
-    {
-      return i < crossing_solutions.size() ? std::move(crossing_solutions[i]) : EigenSolution();
-    }
+    solve_crossings(const StaticState                                         &state,
+                    PrestressedEigenproblem                                   &eigen,
+                    const std::function<void(unsigned int, EigenSolution &&)> &solved = {});
 
     /// The modes of a solution off the sweep (a critical speed): whirl
     /// classified, not tracked, no crossings.
@@ -99,7 +99,6 @@ namespace rotorfit
     WhirlStations             stations;
     ModeTracker               tracker;
     ModalResult               result;
-    std::vector<EigenSolution> crossing_solutions; ///< parallel to result.crossings
     unsigned int              n_critical = 0, n_unsolved = 0;
     /// largest error estimate of a reduced mode at a speed of the sweep (the
     /// root solves' checked solves apart: at a crossing two lines may lie

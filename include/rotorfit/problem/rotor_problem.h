@@ -150,9 +150,11 @@ namespace rotorfit
                   const std::string &message);
     void
     assemble_speed_independent_matrices();
-    /// Mode shapes (and static state) at the critical speeds found at @p state's speed.
+    /// Mode shapes (and static state) at crossing @p i found at @p state's
+    /// speed, of its root solve's @p solution (solved here if empty); called
+    /// from within the root solve's timer section.
     void
-    write_critical_shapes(const StaticState &state);
+    write_critical_shapes(const StaticState &state, unsigned int i, EigenSolution &&solution);
     /// The log line of a finished speed (contact state, iterations, ETA).
     void
     log_speed(const StaticState &state);
