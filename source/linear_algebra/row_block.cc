@@ -33,11 +33,7 @@ namespace rotorfit
         return;
       }
     kept = std::move(nonzero);
-    const std::size_t r = kept.size();
-    values.resize(r * m);
-    for (std::size_t j = 0; j < m; ++j)
-      for (std::size_t i = 0; i < r; ++i)
-        values[i + j * r] = dense[kept[i] + j * n];
+    gather(dense.data(), m, values);
   }
 
   void
