@@ -307,8 +307,9 @@ namespace rotorfit
             .push_back(j);
         if (!(sparse(start) && one_rank))
           solve_columns(
-          solver, layout, solved.size(), [&](const PetscInt i) { return column(start + solved[i]); },
-          [&](const PetscInt i) { return X.data() + std::size_t(solved[i]) * n; });
+            solver, layout, solved.size(),
+            [&](const PetscInt i) { return column(start + solved[i]); },
+            [&](const PetscInt i) { return X.data() + std::size_t(solved[i]) * n; });
         // (the source columns of this chunk first: they may be needed in it)
         if (use_shortcut)
           for (const int j : solved)

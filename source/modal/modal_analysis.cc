@@ -97,7 +97,11 @@ namespace rotorfit
         const auto line = std::find_if(result.modes.begin(), result.modes.end(),
                                        [&](const WhirlMode &m) { return m.tracked_id == c.tracked_id; });
         if (line == result.modes.end())
-          continue;
+          {
+            if (solved) // (its shapes are solved at its interpolated speed)
+              solved(i, EigenSolution());
+            continue;
+          }
         const unsigned int k = c.order;
         LineRoot           root =
           solve_line_root(*line, c.from_rpm, c.from_value, c.to_rpm, c.to_value,

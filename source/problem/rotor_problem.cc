@@ -17,6 +17,12 @@ namespace rotorfit
 {
   using namespace dealii;
 
+  namespace
+  {
+    /// (paused while a crossing's shapes are written from within it)
+    const std::string root_solve_section = "critical speeds (root solve)";
+  } // namespace
+
   // The story of a run: setup() (mesh, pairs, supports, the input checks),
   // run() below, then finish() (summary.txt, the pictures); the command
   // line (app/application.cc) calls the three.
@@ -63,7 +69,7 @@ namespace rotorfit
             }
             {
               // after the response: the trials replace the speed's matrices
-              TimerOutput::Scope t(timer, "critical speeds (root solve)");
+              TimerOutput::Scope t(timer, root_solve_section);
               modal.solve_crossings(state, eigen, [&](const unsigned int i, EigenSolution &&s) {
                 if (results.shapes_at_critical_speeds())
                   write_critical_shapes(state, i, std::move(s));
@@ -99,17 +105,28 @@ namespace rotorfit
   {
     // crossing i since the previous speed, solved at its own speed on this
     // speed's contact law (as the stability onsets are); its time is its own,
-    // not the root solve's it is called from
+    // not the root solve's it is called from (whose call count then counts
+    // one more per crossing)
     struct Pause
     {
-      TimerOutput &timer;
-      const char  *name;
+      TimerOutput       &timer;
+      const std::string  name;
+      Pause(TimerOutput &t, const std::string &section)
+        : timer(t)
+        , name(section)
+      {
+        timer.leave_subsection(name);
+      }
       ~Pause()
       {
-        timer.enter_subsection(name);
+        try
+          {
+            timer.enter_subsection(name);
+          }
+        catch (...) // (the table's time only; never terminate on unwinding)
+          {}
       }
-    } pause{timer, "critical speeds (root solve)"};
-    timer.leave_subsection(pause.name);
+    } pause(timer, root_solve_section);
     TimerOutput::Scope t(timer, "mode shapes at critical speeds");
     StaticState        trial = state;
     trial.rpm                = modal.last_result().crossings[i].rpm;

@@ -320,7 +320,8 @@ namespace rotorfit
 
   /// G = P^T A^-1 P (column-major, the same on every rank) for
   /// the replicated columns of the blocks P = [P_1 .. P_b] (each n x m_k,
-  /// dense or by its nonzero rows; the target of @p shortcut dense), A factorised by @p solver (LDL^T or LU): the inner
+  /// dense or by its nonzero rows; the target of @p shortcut dense), A
+  /// factorised by @p solver (LDL^T or LU): the inner
   /// products of the columns with A^-1, so that |(P x)^H A^-1 (P x)| =
   /// |x^H G x| needs no back-substitution (inverse_norm_sqr). With
   /// @p shortcut its target block's columns are not back-substituted.

@@ -259,8 +259,9 @@ namespace rotorfit
     void
     prepare_gram(bool due);
     /// The kept products A V whose columns span every residual of a reduced
-    /// speed on the current projections: M, C_b, G, K_t, K_t2 (empty and
-    /// zero ones left out; the coefficients of residual_coefficients()).
+    /// speed on the current projections: M, C_b, G, K_t, K_t2, the dense ones
+    /// first and those kept by their rows last (zero ones left out; the
+    /// order of residual_coefficients() and of the Gram matrices).
     std::vector<const RowBlock *>
     residual_blocks() const;
     /// x with Q(lambda) V y = [A_1 V .. A_b V] x for @p blocks, those of

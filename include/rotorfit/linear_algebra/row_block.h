@@ -61,7 +61,8 @@ namespace rotorfit
     {
       return values;
     }
-    /// this += a other (any layouts; the result is re-compressed)
+    /// this += a other (any layouts). A dense result keeps only its nonzero
+    /// rows if they are few; one of the same kept rows keeps those.
     void
     add(double a, const RowBlock &other);
     /// full[0..n) = column j

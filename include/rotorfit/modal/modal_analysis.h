@@ -65,7 +65,9 @@ namespace rotorfit
     /// @p solved gets crossing i's checked eigen solve at its speed as soon
     /// as it is found (empty if the root solve had none there), to write and
     /// let go: one crossing's mode vectors are held at a time (TS: two
-    /// crossings kept for the end of the step were its memory peak).
+    /// crossings kept for the end of the step were its memory peak). What
+    /// it solves itself (an empty one) runs before the next crossing's root
+    /// solve, which starts from the same contact law and basis either way.
     void
     solve_crossings(const StaticState                                         &state,
                     PrestressedEigenproblem                                   &eigen,
