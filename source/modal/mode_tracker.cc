@@ -99,7 +99,7 @@ namespace rotorfit
     for (const auto &line : previous)
       {
         phi_a.push_back(&line.phi);
-        aa.push_back(dot(line.phi, line.m_phi).real());
+        aa.push_back(line.m_norm);
       }
     for (const auto &mode : modes)
       {
@@ -163,7 +163,7 @@ namespace rotorfit
                   crossings.push_back(c);
                 }
             }
-        current.push_back({m.tracked_id, f, zeta(m), m.whirl, m.phi, m.m_phi});
+        current.push_back({m.tracked_id, f, zeta(m), m.whirl, m.phi, bb[b]});
       }
     previous     = std::move(current);
     previous_rpm = rpm;

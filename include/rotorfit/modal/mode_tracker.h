@@ -55,7 +55,11 @@ namespace rotorfit
       double        frequency_hz;
       double        damping_ratio;
       std::string   whirl;
-      ComplexVector phi, m_phi;
+      /// the vector and phi^H M phi: the MAC with the next speed's modes
+      /// needs M phi of those alone (a copy of M phi here was 12 MB on TS,
+      /// held through every speed's eigen solve)
+      ComplexVector phi;
+      double        m_norm;
     };
 
     std::vector<Line>         previous;
