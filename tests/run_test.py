@@ -33,6 +33,7 @@ tests/CMakeLists.txt, and so is each test's kind (its CTest label).
   run_test.py same EXE PRM OUTDIR_1 OUTDIR_2 RTOL ATOL
       contact.csv with 1 and 2 MPI ranks must agree (numdiff).
 """
+import re
 import os
 import subprocess
 import sys
@@ -62,7 +63,6 @@ def run(exe, prm, np=1, outdir=None):
         sys.exit(f"rotorfit exited with {r.returncode}")
     if outdir is not None:
         # the effective parameters record where the results went
-        import re
         used = open(os.path.join(outdir, "parameters.prm")).read()
         if not re.search(r"set Directory\s*=\s*" + re.escape(outdir) + r"\s*$", used, re.M):
             sys.exit(f"{outdir}/parameters.prm does not record --output {outdir}")
@@ -397,7 +397,6 @@ def areas(exe, prm, expected):
     bearings (mm^2) match the file EXPECTED ('area.NAME value rtol' per line,
     closed forms named in its comments), diffed with numdiff: a mesh or a
     physical group that is wrong cannot pass."""
-    import re
     import tempfile
     r = subprocess.run([exe, "--validate", prm], capture_output=True, text=True)
     print(r.stdout[-3000:], r.stderr[-2000:])
@@ -451,6 +450,24 @@ def parameters_doc(generated, doc):
     return 1
 
 
+def version(exe, source_dir):
+    """`rotorfit --version` must name the commit of the source tree it was
+    built from, as git describes it now (-dirty for uncommitted changes):
+    a binary built before a commit or an edit fails here (rebuild it)."""
+    got = subprocess.run([exe, "--version"], capture_output=True, text=True).stdout
+    m = re.search(r"\(git ([^,]+),", got)
+    if not m:
+        sys.exit(f"no '(git HASH,' in the version line: {got!r}")
+    r = subprocess.run(["git", "-C", source_dir, "describe", "--always", "--dirty", "--abbrev=7",
+                        "--match=rotorfit-no-such-tag"], capture_output=True, text=True)
+    want = r.stdout.strip() if r.returncode == 0 and r.stdout.strip() else "unknown"
+    if m.group(1) != want:
+        print(f"the binary names {m.group(1)}, the source tree is {want}: rebuild")
+        return 1
+    print(f"the binary names the source tree's commit {want}: ok")
+    return 0
+
+
 def error(exe, prm, expected, *options):
     """--validate [OPTIONS] PRM must refuse the input (exit code 1) with
     exactly the message EXPECTED (numbers to 1e-6 relative)."""
@@ -474,6 +491,8 @@ if __name__ == "__main__":
         sys.exit(error(*args))
     elif mode == "prints":
         sys.exit(prints(*args))
+    elif mode == "version":
+        sys.exit(version(*args))
     elif mode == "parameters_doc":
         sys.exit(parameters_doc(*args))
     elif mode == "areas":
