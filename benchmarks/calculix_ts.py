@@ -346,7 +346,7 @@ def main():
         die("--speeds '%s': speeds must be >= 0 and increasing" % args.speeds)
     if args.runs < 1 or args.threads < 1:
         die("--runs and --threads must be at least 1")
-    for tool, package in (("gmsh", "gmsh"), (args.ccx, "calculix-ccx")):
+    for tool, package in (("gmsh", "gmsh"), (args.ccx, "calculix-ccx"), ("/usr/bin/time", "time")):
         if shutil.which(tool) is None:
             die("'%s' not found: apt-get install -y %s" % (tool, package))
     if not os.access(args.rotorfit, os.X_OK):
