@@ -63,6 +63,8 @@ namespace rotorfit
       const std::string text = prm_format ? read_parameter_file(file) : "";
       if (!prm_format && !std::filesystem::exists(file))
         throw InputError("the parameter file '" + file + "' does not exist.");
+      if (!prm_format)
+        record_file(file);
       const auto read = [&](ParameterHandler &handler, const bool skip_undefined) {
         if (prm_format)
           {
@@ -135,14 +137,33 @@ namespace rotorfit
     }
 
     /// --set overrides: a studied variant of a case without a copy of its
-    /// .prm. The entry's pattern checks the value.
+    /// .prm. The entry's pattern checks the value. @p user: the command
+    /// line's (messages name them), not the refinement cycles' own.
     void
     apply_sets(ParameterHandler                                       &prm,
-               const std::vector<std::pair<std::string, std::string>> &sets)
+               const std::vector<std::pair<std::string, std::string>> &sets,
+               const bool                                              user = true)
     {
       for (const auto &[path, value] : sets)
         {
-          const auto sections = Utilities::split_string_list(path, '/');
+          const std::string argument = "--set '" + path + "=" + value + "'";
+          // every part of the path named: an empty one ('=5', 'Speeds//End')
+          // left no entry to set (an empty path crashed)
+          std::vector<std::string> sections;
+          std::size_t              a = 0;
+          for (std::size_t b; (b = path.find('/', a)) != std::string::npos; a = b + 1)
+            sections.push_back(Utilities::trim(path.substr(a, b - a)));
+          sections.push_back(Utilities::trim(path.substr(a)));
+          if (std::any_of(sections.begin(), sections.end(), [](const std::string &p) {
+                return p.empty();
+              }))
+            throw InputError(argument + ": the entry '" + path + "' " +
+                             (Utilities::trim(path).empty() ? "is empty" : "has an empty part") +
+                             "; write --set 'Subsection/Entry=value', e.g. --set "
+                             "'Speeds/End=20000'.");
+          const std::string problem = unrepresentable_number(value);
+          if (!problem.empty())
+            throw InputError(argument + ": " + problem);
           try
             {
               for (std::size_t k = 0; k + 1 < sections.size(); ++k)
@@ -153,8 +174,10 @@ namespace rotorfit
             }
           catch (const ExceptionBase &e)
             {
-              throw InputError("--set '" + path + "=" + value + "': " + message_of(e));
+              throw InputError(argument + ": " + message_of(e));
             }
+          if (user)
+            record_override(path, path + "=" + value);
         }
     }
 
@@ -255,7 +278,8 @@ namespace rotorfit
                       {"Output/Write ParaView files", "false"},
                       {"Eigenproblem/Write mode shapes", "false"},
                       {"Output/Pictures", "false"},
-                      {"Mesh refinement/Cycles", "0"}});
+                      {"Mesh refinement/Cycles", "0"}},
+                     false);
           RotorProblem cycle(comm, log);
           cycle.parse_parameters(prm,
                                  dir.empty() ? "." : dir,
@@ -306,7 +330,17 @@ namespace rotorfit
           apply_sets(prm, options.sets);
           const std::string dir = std::filesystem::path(file).parent_path().string();
           problem = std::make_unique<RotorProblem>(comm, log);
-          problem->parse_parameters(prm, dir.empty() ? "." : dir, options.output_override);
+          try
+            {
+              problem->parse_parameters(prm, dir.empty() ? "." : dir, options.output_override);
+            }
+          catch (const ExceptionBase &e)
+            {
+              // a value deal.II's pattern passed and its conversion refused
+              // (in a .json file, say): the input's fault, not the solver's
+              throw InputError(file + (options.sets.empty() ? "" : " (with its --set overrides)") +
+                               ": " + message_of(e));
+            }
           problem->check_output();
           if (!validate)
             {

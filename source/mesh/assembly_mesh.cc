@@ -624,6 +624,20 @@ namespace rotorfit
     return it->second.count(key) > 0;
   }
 
+  std::vector<std::string>
+  AssemblyMesh::surface_names() const
+  {
+    std::set<std::string> names;
+    if (use_sections)
+      for (const auto &[id, n] : boundary_names)
+        names.insert(n.begin(), n.end());
+    else
+      for (const auto &[n, faces] : surfaces)
+        if (!faces.empty())
+          names.insert(n);
+    return {names.begin(), names.end()};
+  }
+
   void
   AssemblyMesh::check_surface_exists(const std::string &name,
                                      const std::string &entry) const

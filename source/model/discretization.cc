@@ -9,8 +9,11 @@
 #include <deal.II/fe/fe_simplex_p.h>
 #include <deal.II/fe/fe_values.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <map>
+#include <set>
 #include <sstream>
 
 namespace rotorfit
@@ -89,6 +92,103 @@ namespace rotorfit
           << interface_list.list()[i].interference * 1e6 << " um\n";
     log << "Static supports:\n" << description;
     check_interference();
+    check_unused_fits();
+  }
+
+  void
+  Discretization::check_unused_fits() const
+  {
+    // Two bodies meshed against each other (coincident boundary faces, not
+    // all at one z: an end face against a shoulder is no fit) are joined
+    // only by an Interface; without one each rides on its supports alone.
+    struct Face
+    {
+      Point<3>                 centre;
+      types::material_id       body;
+      bool                     used; // on a surface of an Interface
+      double                   r, z_lo, z_hi; // of its vertices
+      std::vector<std::string> names;
+    };
+    const auto       &tria  = assembly_mesh.triangulation();
+    std::vector<Face> faces;
+    double            scale = 0;
+    for (const auto &cell : tria.active_cell_iterators())
+      for (const unsigned int f : cell->face_indices())
+        if (cell->face(f)->at_boundary())
+          {
+            const auto face = cell->face(f);
+            Point<3>   c;
+            double     r = 0, z_lo = face->vertex(0)[2], z_hi = z_lo;
+            for (const unsigned int v : face->vertex_indices())
+              {
+                const Point<3> &p = face->vertex(v);
+                c += p / face->n_vertices();
+                r    = std::max(r, std::hypot(p[0], p[1]));
+                z_lo = std::min(z_lo, p[2]);
+                z_hi = std::max(z_hi, p[2]);
+              }
+            scale = std::max(scale, c.norm());
+            if (z_hi - z_lo <= 1e-9 * std::max(1e-3, std::abs(z_hi)))
+              continue;
+            Face x{c, cell->material_id(), false, r, z_lo, z_hi, {}};
+            for (const auto &i : interface_list.list())
+              x.used |= assembly_mesh.face_on_surface(i.shaft_surface, cell, f) ||
+                        assembly_mesh.face_on_surface(i.hub_surface, cell, f);
+            if (!x.used)
+              for (const auto &name : assembly_mesh.surface_names())
+                if (assembly_mesh.face_on_surface(name, cell, f))
+                  x.names.push_back(name);
+            faces.push_back(x);
+          }
+    std::sort(faces.begin(), faces.end(), [](const Face &a, const Face &b) {
+      return a.centre[0] < b.centre[0];
+    });
+    struct Touch
+    {
+      unsigned int          n = 0;
+      double                r_lo = 1e300, r_hi = 0, z_lo = 1e300, z_hi = -1e300;
+      std::set<std::string> names;
+    };
+    std::map<std::pair<types::material_id, types::material_id>, Touch> unused;
+    const double tol = std::max(assembly_mesh.matching_tolerance(), 1e-10) * scale;
+    for (std::size_t i = 0; i < faces.size(); ++i)
+      for (std::size_t j = i + 1; j < faces.size() && faces[j].centre[0] - faces[i].centre[0] <= tol;
+           ++j)
+        if (faces[i].body != faces[j].body && !faces[i].used && !faces[j].used &&
+            faces[i].centre.distance(faces[j].centre) <= tol)
+          {
+            auto        &t = unused[{std::min(faces[i].body, faces[j].body),
+                                     std::max(faces[i].body, faces[j].body)}];
+            ++t.n;
+            t.r_lo = std::min(t.r_lo, faces[i].r);
+            t.r_hi = std::max(t.r_hi, faces[i].r);
+            t.z_lo = std::min(t.z_lo, faces[i].z_lo);
+            t.z_hi = std::max(t.z_hi, faces[i].z_hi);
+            for (const auto *f : {&faces[i], &faces[j]})
+              t.names.insert(f->names.begin(), f->names.end());
+          }
+    for (const auto &[bodies, t] : unused)
+      {
+        const auto range = [](const double lo, const double hi) {
+          std::ostringstream s;
+          s << std::setprecision(4) << lo * 1e3;
+          if (hi - lo > 1e-6 * std::max(std::abs(lo), std::abs(hi)))
+            s << " .. " << hi * 1e3;
+          return s.str() + " mm";
+        };
+        std::string names;
+        for (const auto &n : t.names)
+          names += (names.empty() ? "" : ", ") + ("'" + n + "'");
+        log << "Warning: bodies " << body_list[bodies.first].name << " and "
+            << body_list[bodies.second].name << " touch on " << t.n
+            << " faces (r " << range(t.r_lo, t.r_hi) << ", z " << range(t.z_lo, t.z_hi)
+            << ") that no Interface uses"
+            << (names.empty() ? std::string(" (no surface is named there)") :
+                                " (surface " + names + " lies there)")
+            << ": the two are not joined there, each held by its own supports alone. Name "
+               "the fit in an Interface (Shaft surface, Hub surface), or part the bodies if "
+               "they are meant apart.\n";
+      }
   }
 
   double

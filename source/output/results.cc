@@ -283,7 +283,8 @@ namespace rotorfit
     if (!pictures)
       return;
     // the pictures read the files just closed; python3-matplotlib may be
-    // missing: the tables stay complete, the log says which picture failed
+    // missing, or a script fail: the tables stay complete, the log says
+    // which picture failed and why
     std::vector<std::pair<std::string, std::string>> scripts;
     if (with_contact)
       scripts.emplace_back("plot_contact.py", "contact.png");
@@ -306,7 +307,8 @@ namespace rotorfit
                                              "" :
                                              script.substr(script.find(' '))) +
                                     " > '" + output_dir + "/plot." + std::to_string(i) +
-                                    ".log' 2>&1";
+                                    ".log' 2> '" + output_dir + "/plot." + std::to_string(i) +
+                                    ".err'";
         const char *argv[] = {"sh", "-c", command.c_str(), nullptr};
         pid_t       pid    = -1;
         if (posix_spawn(&pid, "/bin/sh", nullptr, nullptr, const_cast<char **>(argv), environ) != 0)
@@ -320,20 +322,51 @@ namespace rotorfit
         if (children[i] > 0)
           while (waitpid(children[i], &status, 0) < 0 && errno == EINTR)
             ;
-        const std::string part = output_dir + "/plot." + std::to_string(i) + ".log";
-        {
-          std::ifstream in(part);
-          if (in && in.peek() != std::ifstream::traits_type::eof())
-            plot_log << in.rdbuf(); // (an empty one would set failbit)
-        }
-        std::error_code ignored; // (finish() never throws)
-        std::filesystem::remove(part, ignored);
-        const auto &files = scripts[i].second;
+        // the script's output, then its errors, into plot.log; the last
+        // line of its errors says why it failed
+        std::string last_error;
+        for (const char *kind : {".log", ".err"})
+          {
+            const std::string part = output_dir + "/plot." + std::to_string(i) + kind;
+            {
+              std::ifstream in(part);
+              std::string   line;
+              while (std::getline(in, line))
+                {
+                  plot_log << line << '\n';
+                  if (kind == std::string(".err") && line.find_first_not_of(" \t\r") != std::string::npos)
+                    last_error = line;
+                }
+            }
+            std::error_code ignored; // (finish() never throws)
+            std::filesystem::remove(part, ignored);
+          }
+        const auto       &files  = scripts[i].second;
+        const std::string script = scripts[i].first.substr(0, scripts[i].first.find(' '));
         if (children[i] > 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0)
-          log << "Picture: " << output_dir << "/" << files << '\n';
+          {
+            log << "Picture: " << output_dir << "/" << files << '\n';
+            continue;
+          }
+        // matplotlib is blamed only where its import failed (the scripts
+        // say 'not importable'); any other failure is the script's own
+        std::string why;
+        if (children[i] <= 0)
+          why = "/bin/sh could not be started";
+        else if (last_error.find("not importable") != std::string::npos ||
+                 last_error.rfind("ModuleNotFoundError", 0) == 0 ||
+                 last_error.rfind("ImportError", 0) == 0)
+          why = "python3-matplotlib (and numpy) are needed: " + last_error;
+        else if (!last_error.empty())
+          why = script + " failed: " + last_error;
+        else if (WIFSIGNALED(status))
+          why = script + " was killed by signal " + std::to_string(WTERMSIG(status));
         else
-          log << "Warning: " << files << " could not be drawn (see " << output_dir
-              << "/plot.log; needs python3-matplotlib); the csv files are complete.\n";
+          why = script + " failed with exit code " + std::to_string(WEXITSTATUS(status));
+        if (why.size() > 400)
+          why = why.substr(0, 400) + " ...";
+        log << "Warning: " << files << " could not be drawn: " << printable(why) << " (see "
+            << output_dir << "/plot.log); the csv files are complete.\n";
       }
   }
 } // namespace rotorfit

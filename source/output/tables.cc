@@ -7,6 +7,17 @@
 
 namespace rotorfit
 {
+  std::string
+  csv_field(const std::string &text)
+  {
+    if (text.find_first_of(",\"\r\n") == std::string::npos)
+      return text;
+    std::string quoted = "\"";
+    for (const char c : text)
+      quoted += (c == '"' ? "\"\"" : std::string(1, c));
+    return quoted + '"';
+  }
+
   void
   CsvTable::create(const std::string &path, const char *header, const int digits)
   {
@@ -31,13 +42,13 @@ namespace rotorfit
       return;
     const auto &c = state.contact;
     for (const auto &row : state.interfaces)
-      file << state.rpm << ',' << row.name << ',' << row.closed_pairs << ',' << row.total_pairs
+      file << state.rpm << ',' << csv_field(row.name) << ',' << row.closed_pairs << ',' << row.total_pairs
            << ',' << row.contact_fraction << ',' << row.mean_pressure << ','
            << row.max_pressure << ',' << row.constraint_error << ','
            << c.active_set_iterations << ',' << c.uzawa_iterations << ','
            << c.factorizations << ',' << c.low_rank_updates << ','
            << (row.status == "ok" ? 1 : 0) << ',' << row.first_opening_rpm << ','
-           << row.loss_of_fit_rpm << ',' << row.asymmetry << ',' << row.status << '\n';
+           << row.loss_of_fit_rpm << ',' << row.asymmetry << ',' << csv_field(row.status) << '\n';
     file << std::flush;
   }
 
@@ -53,7 +64,7 @@ namespace rotorfit
     if (!file.is_open())
       return;
     for (const auto &o : state.openings)
-      file << o.interface << ',' << o.position[0] << ',' << o.position[1] << ','
+      file << csv_field(o.interface) << ',' << o.position[0] << ',' << o.position[1] << ','
            << o.position[2] << ',' << o.opening_rpm << ',' << o.from_rpm << ',' << o.to_rpm
            << '\n';
     file << std::flush;
@@ -72,7 +83,7 @@ namespace rotorfit
     if (!file.is_open())
       return;
     for (const auto &e : state.events)
-      file << e.rpm << ',' << e.interface << ',' << e.position[0] << ',' << e.position[1] << ','
+      file << e.rpm << ',' << csv_field(e.interface) << ',' << e.position[0] << ',' << e.position[1] << ','
            << e.position[2] << ',' << (e.opening ? "opening" : "closing") << ','
            << e.closed_pairs << ',' << e.contact_fraction << '\n';
     file << std::flush;
@@ -95,11 +106,11 @@ namespace rotorfit
         const WhirlMode &m      = modes.modes[b];
         const double     zeta   = -m.lambda.real() / std::abs(m.lambda);
         const double     logdec = -2 * M_PI * m.lambda.real() / m.lambda.imag();
-        file << modes.rpm << ',' << b + 1 << ',' << m.tracked_id << ',' << m.whirl << ','
+        file << modes.rpm << ',' << b + 1 << ',' << m.tracked_id << ',' << csv_field(m.whirl) << ','
              << m.frequency_hz() << ',' << zeta << ',' << logdec << ','
              // undamped modes (Re = 0 up to round-off) count as stable
              << (m.lambda.real() <= 1e-8 * std::abs(m.lambda) ? 1 : 0) << ','
-             << m.backward_error << ',' << state.fit_state << ','
+             << m.backward_error << ',' << csv_field(state.fit_state) << ','
              << (state.converged() ? 1 : 0) << ',' << state.contact.asymmetry << '\n';
       }
     file << std::flush;
@@ -126,7 +137,7 @@ namespace rotorfit
         const bool lateral = c.whirl != "non-lateral";
         const bool excited = lateral && c.order == 1 &&
                              (c.whirl != "backward" || !modes.isotropic_supports);
-        file << c.tracked_id << ',' << c.whirl << ',' << c.order << ',' << c.rpm << ','
+        file << c.tracked_id << ',' << csv_field(c.whirl) << ',' << c.order << ',' << c.rpm << ','
              << c.frequency_hz << ',' << (lateral ? "lateral" : "non-lateral") << ','
              << (excited ? 1 : 0) << ',' << c.damping_ratio << ','
              << (c.damping_ratio > 0 ? 1 / (2 * c.damping_ratio) : 0.) << ','
@@ -147,7 +158,7 @@ namespace rotorfit
     if (!file.is_open())
       return;
     for (const auto &r : modes.rigid)
-      file << modes.rpm << ',' << r.kind << ',' << r.body << ',' << r.lambda.real() << ','
+      file << modes.rpm << ',' << csv_field(r.kind) << ',' << csv_field(r.body) << ',' << r.lambda.real() << ','
            << r.lambda.imag() / (2 * M_PI) << ',' << r.backward_error << '\n';
     file << std::flush;
   }
@@ -182,7 +193,7 @@ namespace rotorfit
     for (const auto &p : r.probes)
       {
         const double f = p.forward(), b = p.backward();
-        file << r.rpm << ',' << p.probe << ',' << r.fit_state << ',' << std::abs(p.x) << ','
+        file << r.rpm << ',' << csv_field(p.probe) << ',' << csv_field(r.fit_state) << ',' << std::abs(p.x) << ','
              << lag(p.x) << ',' << std::abs(p.y) << ',' << lag(p.y) << ',' << f + b << ','
              << std::abs(f - b) << ','
              << (!(f + b > 1e-6 * largest) ? "none" : f >= b ? "forward" : "backward") << ','
@@ -200,12 +211,12 @@ namespace rotorfit
            "fit_state,resolved\n"
         << std::setprecision(8);
     for (const auto &p : peaks)
-      out << p.probe << ',' << p.rpm << ',' << p.amplitude << ',' << p.amplification_factor
+      out << csv_field(p.probe) << ',' << p.rpm << ',' << p.amplitude << ',' << p.amplification_factor
           << ',' << p.low_rpm << ',' << p.high_rpm << ',' << p.separation_margin << ','
           << p.required_margin << ','
           << (std::isnan(p.required_margin) ? "n/a" :
               p.separation_margin >= p.required_margin ? "yes" : "no")
-          << ',' << p.fit_state << ',' << (p.resolved ? 1 : 0) << '\n';
+          << ',' << csv_field(p.fit_state) << ',' << (p.resolved ? 1 : 0) << '\n';
   }
 } // namespace rotorfit
 
@@ -224,8 +235,8 @@ namespace rotorfit
     if (!file.is_open())
       return;
     for (const auto &o : onsets)
-      file << o.tracked_id << ',' << o.whirl << ',' << o.rpm << ',' << o.frequency_hz << ','
-           << o.direction << ',' << o.evaluations << ',' << (o.converged ? 1 : 0) << '\n';
+      file << o.tracked_id << ',' << csv_field(o.whirl) << ',' << o.rpm << ',' << o.frequency_hz << ','
+           << csv_field(o.direction) << ',' << o.evaluations << ',' << (o.converged ? 1 : 0) << '\n';
     file << std::flush;
   }
 } // namespace rotorfit

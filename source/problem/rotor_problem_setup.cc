@@ -1,3 +1,4 @@
+#include <rotorfit/base/format.h>
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/base/resources.h>
 #include <rotorfit/mesh/section_mesh.h>
@@ -6,6 +7,7 @@
 #include <deal.II/base/mpi.h>
 
 #include <algorithm>
+#include <cmath>
 #include <iomanip>
 #include <map>
 #include <sstream>
@@ -79,6 +81,10 @@ namespace rotorfit
   void
   RotorProblem::setup()
   {
+    // what the parsers accepted but found suspect, now that the log is open
+    for (const auto *list : {&model.bodies().warnings(), &speeds.warnings()})
+      for (const auto &w : *list)
+        log << "Warning: " << w << ".\n";
     model.setup(timer);
     check_tip_speed();
     eigen.setup();
@@ -148,6 +154,34 @@ namespace rotorfit
           << " m/s; no metal rotor survives 2,000 m/s (disks burst at 500 .. 1,000 m/s). "
              "Speeds are in r/min.";
         throw InputError(m.str());
+      }
+    // Below that, a rim speed in the burst range of metal disks: at 500 m/s
+    // a free rotating ring's hoop stress rho v^2 is 2.0 GPa in steel, 1.1 in
+    // titanium, 0.7 in aluminium, the strength of their strongest alloys; a
+    // solid disk's peak, (3 + nu)/8 of it, gets there at about 1.6 x that
+    // speed. Warned per body (its own radius and density).
+    std::vector<double> r_body(model.bodies().size(), 0.);
+    for (const auto &cell : model.mesh().triangulation().active_cell_iterators())
+      for (const unsigned int v : cell->vertex_indices())
+        r_body[cell->material_id()] =
+          std::max(r_body[cell->material_id()], std::hypot(cell->vertex(v)[0], cell->vertex(v)[1]));
+    for (unsigned int b = 0; b < r_body.size(); ++b)
+      {
+        const double v = SpeedSchedule::rpm_to_rad_per_s(rpm) * r_body[b];
+        if (!(v > 500))
+          continue;
+        const double       rho = model.bodies()[b].density;
+        std::ostringstream m;
+        m << std::setprecision(3) << "Warning: Speeds: the last speed, " << format_number(rpm)
+          << " r/min, moves the rim of body " << model.bodies()[b].name << " (r "
+          << r_body[b] * 1e3 << " mm) at " << v << " m/s, above 500 m/s, where metal disks "
+          << "begin to burst: a free rotating ring there carries the hoop stress rho v^2 = "
+          << rho * v * v / 1e9 << " GPa (" << format_number(rho)
+          << " kg/m^3; a solid disk about 0.41 of it), and at 500 m/s already 2.0 GPa in "
+             "steel, 0.7 GPa in aluminium, the strength of their strongest alloys. "
+             "rotorfit does not check strength: check the burst margin, and that the "
+             "speeds are in r/min.\n";
+        log << m.str();
       }
   }
 

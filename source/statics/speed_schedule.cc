@@ -1,4 +1,5 @@
 #include <rotorfit/base/input_error.h>
+#include <rotorfit/base/parameter_file.h>
 #include <rotorfit/base/patterns.h>
 #include <rotorfit/statics/speed_schedule.h>
 
@@ -38,8 +39,15 @@ namespace rotorfit
   {
     prm.enter_subsection("Speeds");
     speeds.clear();
+    input_warnings.clear();
     if (prm.get("Mode") == "range")
       {
+        if (!Utilities::trim(prm.get("List")).empty())
+          input_warnings.push_back(where_set("Speeds/List") + "Speeds/List = " +
+                                   prm.get("List") +
+                                   " is ignored: Speeds/Mode = range takes the speeds from "
+                                   "Start, End and Step (set Mode = list to use the list, or "
+                                   "remove it)");
         const double start = prm.get_double("Start");
         const double end   = prm.get_double("End");
         const double step  = prm.get_double("Step");

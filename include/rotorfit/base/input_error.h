@@ -1,5 +1,7 @@
 #pragma once
 
+#include <rotorfit/base/format.h>
+
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -20,13 +22,14 @@ namespace rotorfit
    * An error that bad input can trigger (parameter file, geometry, physical
    * groups, interfaces). main() prints its message once, without a stack
    * trace, and exits with exit_code::input_error. The message names the file
-   * or entry, the bad value and the fix.
+   * or entry, the bad value and the fix. Control bytes in it (a NUL in a
+   * value) are escaped, or what() would end the message there.
    */
   class InputError : public std::runtime_error
   {
   public:
     explicit InputError(const std::string &message)
-      : std::runtime_error(message)
+      : std::runtime_error(printable(message))
     {}
   };
 

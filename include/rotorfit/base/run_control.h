@@ -43,8 +43,10 @@ namespace rotorfit
     lock_output_directory(const std::string &directory);
 
     /**
-     * Would @p directory be writable (created if missing)? Returns an empty
-     * string if so, else the reason with the path. Creates nothing.
+     * Would @p directory be writable (created if missing) and free (no
+     * other run holding its lock)? Returns an empty string if so, else the
+     * reason with the path: what the run itself would refuse. Creates
+     * nothing.
      */
     std::string
     check_writable(const std::string &directory);

@@ -73,7 +73,16 @@ namespace rotorfit
     std::vector<std::string>
     physical_volumes() const;
 
+    /// Materials accepted but suspect (nu near 0.5, a density in g/cm^3?),
+    /// one message each, for the log once it is open.
+    const std::vector<std::string> &
+    warnings() const
+    {
+      return input_warnings;
+    }
+
   private:
-    std::vector<Body> bodies;
+    std::vector<Body>        bodies;
+    std::vector<std::string> input_warnings;
   };
 } // namespace rotorfit

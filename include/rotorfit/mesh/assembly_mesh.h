@@ -170,6 +170,10 @@ namespace rotorfit
                     const dealii::Triangulation<3>::cell_iterator &cell,
                     const unsigned int face_no) const;
 
+    /// The names of every physical surface (or surface of the sections).
+    std::vector<std::string>
+    surface_names() const;
+
     /// Throw an InputError naming @p entry if @p name is no physical surface.
     void
     check_surface_exists(const std::string &name,

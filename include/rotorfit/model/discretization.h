@@ -124,6 +124,9 @@ namespace rotorfit
     /// Interference against the fit radius (small strain, elastic limit).
     void
     check_interference() const;
+    /// Warns of bodies that touch at a fit no Interface uses.
+    void
+    check_unused_fits() const;
 
     MPI_Comm comm;
     Log     &log;

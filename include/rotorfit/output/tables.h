@@ -10,6 +10,12 @@
 
 namespace rotorfit
 {
+  /// @p text as a CSV field (RFC 4180): in double quotes, its quotes
+  /// doubled, where it holds a comma, a quote or a line break (a status
+  /// "... 0 pairs flipped back, at ... r/min" split its row); else as is.
+  std::string
+  csv_field(const std::string &text);
+
   /**
    * The result tables, one class per file. Each opens its file with the
    * header (units in the column names) and appends the rows of a speed as

@@ -163,7 +163,9 @@ namespace rotorfit
     /// a fit) counts it twice.
     void
     check_surface_use() const;
-    /// The rim speed at the last speed against what any rotor survives.
+    /// The rim speed at the last speed against what any rotor survives
+    /// (refused), and each body's against the burst range of metal disks
+    /// (warned).
     void
     check_tip_speed() const;
     /// Memory of the run's largest phase against the machine's.

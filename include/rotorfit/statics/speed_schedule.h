@@ -2,6 +2,7 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <string>
 #include <vector>
 
 namespace rotorfit
@@ -35,7 +36,16 @@ namespace rotorfit
     static double
     rad_per_s_to_rpm(const double omega);
 
+    /// Entries given but not used (a List with Mode = range), one message
+    /// each, for the log once it is open.
+    const std::vector<std::string> &
+    warnings() const
+    {
+      return input_warnings;
+    }
+
   private:
-    std::vector<double> speeds;
+    std::vector<double>      speeds;
+    std::vector<std::string> input_warnings;
   };
 } // namespace rotorfit
