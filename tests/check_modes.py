@@ -171,7 +171,7 @@ def prepare(prm, out, sets=()):
     return run_test.case(prm, out, sets)
 
 
-def check_timoshenko(exe, prm, out, tol, fine_h):
+def check_timoshenko(exe, prm, out, tol, fine_h, fine_tol):
     text = open(prm).read()
     E, nu, rho = value(text, "Young's modulus"), value(text, "Poisson's ratio"), value(text, "Density")
     R, L = geometry(text, "R"), geometry(text, "L")
@@ -189,7 +189,7 @@ def check_timoshenko(exe, prm, out, tol, fine_h):
         errors.append([abs(p - q) / q for p, q in zip(pairs, ref)])
         for i in range(2):
             ok &= report(f"{label} mesh, bending mode {i + 1} [Hz]", pairs[i], ref[i],
-                         float(tol) if label == "coarse" else 1.0)
+                         float(tol if label == "coarse" else fine_tol))
     for i in range(2):
         conv = errors[1][i] < errors[0][i]
         print(f"mode {i + 1}: error {errors[0][i]:.3e} -> {errors[1][i]:.3e} "
@@ -203,8 +203,10 @@ def cylinder(text):
     return timoshenko.cylinder_inertia(rho, R, L)
 
 
-def check_rigid_rotor(exe, prm, out, tol):
-    tol = float(tol)
+def check_rigid_rotor(exe, prm, out, tol, crit_tol):
+    """Translation, damping and tilt at every speed within TOL of the closed
+    forms (doc/theory.md 10d), the 1X critical speeds within CRIT_TOL."""
+    tol, crit_tol = float(tol), float(crit_tol)
     run_test.run(exe, prepare(prm, out))
     text = open(prm).read()
     m, Ip, Id = cylinder(text)
@@ -265,7 +267,7 @@ def check_rigid_rotor(exe, prm, out, tol):
             ok = False
             continue
         got = min(cand, key=lambda x: abs(x - s))
-        ok &= report(f"1X critical speed, {name} [r/min]", got, s, 0.01)
+        ok &= report(f"1X critical speed, {name} [r/min]", got, s, crit_tol)
         if whirl is None:
             # the translation's damping ratio at its crossing: c / sqrt(2 k m)
             row = min(crit, key=lambda x: abs(float(x["speed_rpm"]) - s))
@@ -313,8 +315,11 @@ def rigid_forced_response(m, Ip, Id, zc, bearings, unbalances, omega):
     return (f1 * a22 - a12 * f2) / det, (a11 * f2 - a12 * f1) / det
 
 
-def check_unbalance(exe, prm, out, tol, af_tol):
+def check_unbalance(exe, prm, out, tol, af_tol, peak_tol=None):
+    """Amplitudes within TOL (of each speed's largest), the Jeffcott peak's
+    amplification factor within AF_TOL and its speed within PEAK_TOL."""
     tol, af_tol = float(tol), float(af_tol)
+    peak_tol = tol if peak_tol is None else float(peak_tol)
     run_test.run(exe, prepare(prm, out))
     text = open(prm).read()
     m, Ip, Id = cylinder(text)
@@ -383,7 +388,7 @@ def check_unbalance(exe, prm, out, tol, af_tol):
         lo_hi = re.search(r"set Operating speed range\s*=\s*([-+0-9.eE]+)\s*,\s*([-+0-9.eE]+)", text)
         for p in peaks:
             af = float(p["amplification_factor"])
-            ok &= report(f"{p['probe']} peak speed [r/min]", float(p["speed_rpm"]), peak_rpm, tol)
+            ok &= report(f"{p['probe']} peak speed [r/min]", float(p["speed_rpm"]), peak_rpm, peak_tol)
             ok &= report(f"{p['probe']} amplification factor", af, 1 / (2 * zeta), af_tol)
             if lo_hi:
                 lo, hi = float(lo_hi.group(1)), float(lo_hi.group(2))
@@ -508,7 +513,8 @@ def check_free_spin(exe, prm, out, tol):
     # reactions of an unsymmetric mesh) and the tilt cancellation against
     # Omega^2 K_theta (exact only on rotationally symmetric meshes)
     summary = dict(l.split(None, 1) for l in open(os.path.join(out, "summary.txt")) if l.strip())
-    for key, tol_key in (("check.tilt_virial", 1e-6), ("check.twist_virial", 1e-9)):
+    # recorded 1.6e-7 (tilt; the support reactions' share) and 0 (twist)
+    for key, tol_key in (("check.tilt_virial", 7.5e-7), ("check.twist_virial", 1e-9)):
         ok &= report(key, float(summary[key]), 1.0, tol_key)
     c = float(summary["check.tilt_cancellation"])
     good = abs(c) < 1e-3
@@ -694,7 +700,7 @@ def check_stiffening(exe, prm_on, prm_off, prm_ksig, out, rpm):
         ok &= good
     twist = [float(r["frequency_hz"]) for r in at(tables["ksig"], rpm) if r["whirl"] == "non-lateral"]
     ok &= report("K_sigma alone: torsion line at 1X [Hz]",
-                 min(twist, key=lambda f: abs(f - rpm / 60)) if twist else 0.0, rpm / 60, 0.005)
+                 min(twist, key=lambda f: abs(f - rpm / 60)) if twist else 0.0, rpm / 60, 5e-4)
     return 0 if ok else 1
 
 

@@ -15,6 +15,14 @@ tests/CMakeLists.txt, and so is each test's kind (its CTest label).
       summary.txt and the log (see static_flags()).
   run_test.py lock_and_signal EXE PRM OUTDIR
       a second run into a busy folder is refused; SIGTERM stops the first.
+  run_test.py locked EXE PRM OUTDIR
+      --validate refuses a folder whose lock another process holds.
+  run_test.py csv_fields EXE PRM OUTDIR TEXT
+      every CSV row has its header's field count; a status with TEXT and a
+      comma is quoted.
+  run_test.py plot_warning EXE PRM_LATIN1 PRM OUTDIR
+      a picture that fails names the script's error; matplotlib only when
+      its import failed.
   run_test.py areas EXE PRM EXPECTED
       --validate accepts PRM and reports the interface/bearing areas of
       EXPECTED ('area.NAME value rtol' lines; numdiff).
@@ -30,8 +38,9 @@ tests/CMakeLists.txt, and so is each test's kind (its CTest label).
       --validate accepts PRM.
   run_test.py ratio EXE PRM_A OUT_A PRM_B OUT_B KEY EXPECTED RTOL
       run two cases; KEY(A)/KEY(B) must equal EXPECTED within RTOL (numdiff).
-  run_test.py same EXE PRM OUTDIR_1 OUTDIR_2 RTOL ATOL
-      contact.csv with 1 and 2 MPI ranks must agree (numdiff).
+  run_test.py same EXE PRM OUTDIR_1 OUTDIR_2 RTOL
+      contact.csv with 1 and 2 MPI ranks must agree in every column (RTOL
+      relative, or the column's absolute tolerance in CONTACT_ATOL).
 """
 import re
 import os
@@ -224,23 +233,64 @@ def softening(exe, prm_off, out_off, prm_on, out_on, expected):
     return 0 if ok else 1
 
 
-def same_columns(exe, prm_a, out_a, prm_b, out_b, columns, rtol, atol, sets_a=(), sets_b=()):
-    """Run both cases; the COLUMNS (comma-separated) of their contact.csv must
-    agree within RTOL/ATOL row by row (numdiff)."""
+# Absolute tolerance of each contact.csv column where a value may be zero
+# (numbers are written with 8 significant digits; elsewhere RTOL applies).
+# Counts, flags and names must be equal; a fraction or an asymmetry that
+# moves by 1e-6 fails, and so does a pressure that moves by 1e-3 Pa where
+# the other is zero (the fit's pressures are ~1e7 Pa).
+CONTACT_ATOL = {
+    "speed_rpm": 0, "closed_pairs": 0, "total_pairs": 0, "contact_fraction": 1e-9,
+    "mean_pressure_Pa": 1e-3, "max_pressure_Pa": 1e-3, "constraint_error": 1e-11,
+    "active_set_iterations": 0, "uzawa_iterations": 0, "factorizations": 0,
+    "low_rank_updates": 0, "converged": 0, "first_opening_rpm": 1e-3,
+    "loss_of_fit_rpm": 1e-3, "asymmetry": 1e-9,
+}
+
+
+def same_table(a, b, columns, rtol):
+    """Rows of the CSV files A and B agree column by column: a number within
+    RTOL relative or the column's CONTACT_ATOL absolute, a word exactly.
+    COLUMNS: a list of names, or None for every column of A."""
     import csv
+    rows = [list(csv.DictReader(open(f))) for f in (a, b)]
+    names = columns or list(rows[0][0].keys() if rows[0] else [])
+    bad = 0
+    if len(rows[0]) != len(rows[1]):
+        print(f"{a}: {len(rows[0])} rows, {b}: {len(rows[1])}: FAILED")
+        return 1
+    for i, (ra, rb) in enumerate(zip(*rows)):
+        for n in names:
+            x, y = ra.get(n), rb.get(n)
+            try:
+                fx, fy = float(x), float(y)
+            except (TypeError, ValueError):
+                if x != y:
+                    print(f"row {i + 1} {n}: '{x}' vs '{y}': FAILED")
+                    bad += 1
+                continue
+            if fx != fx or fy != fy:  # nan (no such speed yet): on both sides
+                if not (fx != fx and fy != fy):
+                    print(f"row {i + 1} {n}: {x} vs {y}: FAILED")
+                    bad += 1
+                continue
+            atol = CONTACT_ATOL.get(n, 0)
+            d = abs(fx - fy)
+            if not (d <= atol or d <= float(rtol) * max(abs(fx), abs(fy))):
+                print(f"row {i + 1} {n}: {x} vs {y} (difference {d:.3g}; "
+                      f"tolerance {rtol} relative, {atol} absolute): FAILED")
+                bad += 1
+    print(f"{len(rows[0])} rows, columns {', '.join(names)}: "
+          + ("agree" if not bad else f"{bad} values differ"))
+    return 1 if bad else 0
+
+
+def same_columns(exe, prm_a, out_a, prm_b, out_b, columns, rtol, sets_a=(), sets_b=()):
+    """Run both cases; the COLUMNS (comma-separated) of their contact.csv must
+    agree row by row within RTOL relative or each column's CONTACT_ATOL."""
     run(exe, case(prm_a, out_a, sets_a) if sets_a else prm_a, outdir=None if sets_a else out_a)
     run(exe, case(prm_b, out_b, sets_b) if sets_b else prm_b, outdir=None if sets_b else out_b)
-    names = columns.split(",")
-    files = []
-    for out in (out_a, out_b):
-        rows = list(csv.DictReader(open(os.path.join(out, "contact.csv"))))
-        path = os.path.join(out, "contact_columns.txt")
-        with open(path, "w") as f:
-            for r in rows:
-                f.write(" ".join(r[n] for n in names) + "\n")
-        files.append(path)
-        print(out, "rows:", len(rows))
-    return numdiff(files[0], files[1], rtol, atol)
+    return same_table(os.path.join(out_a, "contact.csv"), os.path.join(out_b, "contact.csv"),
+                      columns.split(","), rtol)
 
 
 def path_steps(exe, prm, outdir, interface, *sets):
@@ -292,21 +342,40 @@ def path_steps(exe, prm, outdir, interface, *sets):
     return 1 if bad else 0
 
 
-def paths(exe, prm, outdir, columns, rtol, atol, *sets):
+def paths(exe, prm, outdir, columns, rtol, *sets):
     """PRM (with --set SETS) on the exact path and on the sampled path with a
     factorisation per active set: COLUMNS of contact.csv as in same_columns."""
     exact = [*sets, "Contact/Speed path=exact"]
     sampled = [*sets, "Contact/Speed path=sampled", "Contact/Low-rank update limit=0"]
     return same_columns(exe, prm, os.path.join(outdir, "exact"), prm,
-                        os.path.join(outdir, "sampled"), columns, rtol, atol, exact, sampled)
+                        os.path.join(outdir, "sampled"), columns, rtol, exact, sampled)
 
 
 def valid(exe, prm):
-    """--validate must accept PRM (exit code 0, 'valid.' in its output)."""
+    """--validate must accept PRM (exit code 0, 'valid.' in its output) and
+    print what it prints for the same file without its UTF-8 byte order
+    mark, if it has one (the mark must not change what is read)."""
+    import tempfile
     r = subprocess.run([exe, "--validate", prm], capture_output=True, text=True)
     print(r.stdout[-2000:], r.stderr[-2000:])
     ok = r.returncode == 0 and "valid." in r.stdout
     print("accepted:", "ok" if ok else "FAILED")
+    raw = open(prm, "rb").read()
+    if raw.startswith(b"\xef\xbb\xbf"):
+        # the copy sits among links to the files beside PRM (its geometry)
+        scratch, here = tempfile.mkdtemp(), os.path.dirname(os.path.abspath(prm))
+        for f in os.listdir(here):
+            if os.path.isfile(os.path.join(here, f)) and f != os.path.basename(prm):
+                os.symlink(os.path.join(here, f), os.path.join(scratch, f))
+        plain = os.path.join(scratch, os.path.basename(prm))
+        open(plain, "wb").write(raw[3:])
+        p = subprocess.run([exe, "--validate", plain], capture_output=True, text=True,
+                           cwd=os.path.dirname(os.path.abspath(prm)))
+        same = p.returncode == r.returncode and p.stdout.replace(plain, prm) == r.stdout
+        print("the same output without the byte order mark:", "ok" if same else "FAILED")
+        if not same:
+            print(p.stdout[-2000:], p.stderr[-2000:])
+        ok &= same
     return 0 if ok else 1
 
 
@@ -384,51 +453,60 @@ def lock_and_signal(exe, prm, outdir):
     ok &= "interrupted by SIGTERM" in text and "speeds finished" in text
     summary = open(os.path.join(outdir, "summary.txt")).read()
     ok &= "run.status interrupted" in summary
-    header = open(log).readline().count(",")
-    rows = open(log).read().splitlines()[1:]
-    ok &= len(rows) >= 1 and all(r.count(",") == header for r in rows)
+    table = list(csv.reader(open(log, newline="")))
+    rows = table[1:]
+    ok &= len(rows) >= 1 and all(len(r) == len(table[0]) for r in rows)
     print(f"campbell.csv: {len(rows)} complete rows")
     print("lock and signal:", "ok" if ok else "FAILED")
     return 0 if ok else 1
 
 
+def check_areas(stdout, lines):
+    """The areas --validate printed (STDOUT) for interfaces and bearings
+    against LINES 'area.NAME value rtol' (mm^2, closed forms)."""
+    found = {m.group(1): float(m.group(2)) for m in
+             re.finditer(r"(?:Interface|bearing) (\S+?):? .*?area ([0-9.eE+-]+) mm\^2", stdout)}
+    ok = True
+    for line in lines:
+        key, want, rtol = line.split()
+        got = found.get(key[len("area."):])
+        good = got is not None and abs(got - float(want)) <= float(rtol) * abs(float(want))
+        print(f"{key}: {got} vs {want} mm^2 (error "
+              f"{'-' if got is None else f'{(got - float(want)) / float(want):+.2e}'}, rtol {rtol}):",
+              "ok" if good else "FAILED")
+        ok &= good
+    return ok
+
+
+def expected_lines(path):
+    return [l.rstrip("\n") for l in open(path) if l.strip() and not l.startswith("#")]
+
+
 def areas(exe, prm, expected):
     """--validate accepts PRM, and the areas it reports for interfaces and
     bearings (mm^2) match the file EXPECTED ('area.NAME value rtol' per line,
-    closed forms named in its comments), diffed with numdiff: a mesh or a
-    physical group that is wrong cannot pass."""
-    import tempfile
+    closed forms named in its comments): a mesh or a physical group that is
+    wrong cannot pass."""
     r = subprocess.run([exe, "--validate", prm], capture_output=True, text=True)
     print(r.stdout[-3000:], r.stderr[-2000:])
     ok = r.returncode == 0 and "valid." in r.stdout
-    found = {m.group(1): m.group(2) for m in
-             re.finditer(r"(?:Interface|bearing) (\S+?):? .*?area ([0-9.eE+-]+) mm\^2", r.stdout)}
-    scratch = tempfile.mkdtemp()
-    for line in open(expected):
-        if not line.strip() or line.startswith("#"):
-            continue
-        key, want, rtol = line.split()
-        got = found.get(key[len("area."):])
-        a, b = os.path.join(scratch, key + ".got"), os.path.join(scratch, key + ".want")
-        open(a, "w").write(f"{key} {got}\n")
-        open(b, "w").write(f"{key} {want}\n")
-        good = got is not None and numdiff(a, b, rtol, "0") == 0
-        print(f"{key}: {got} vs {want} mm^2 (rtol {rtol}):", "ok" if good else "FAILED")
-        ok &= good
-    return 0 if ok else 1
+    return 0 if check_areas(r.stdout, expected_lines(expected)) and ok else 1
 
 
 def prints(exe, prm, expected, *options):
     """--validate [OPTIONS] PRM is accepted and prints every line of
-    EXPECTED (after its '#' comments) within its output lines, in order."""
+    EXPECTED (after its '#' comments) within its output lines, in order;
+    lines 'area.NAME value rtol' are areas against closed forms (areas())."""
     r = subprocess.run([exe, "--validate"] + list(options) + [prm], capture_output=True, text=True)
     out = r.stdout.splitlines()
     ok, at = r.returncode == 0, 0
-    for want in (l.rstrip("\n") for l in open(expected) if l.strip() and not l.startswith("#")):
+    lines = expected_lines(expected)
+    for want in (l for l in lines if not l.startswith("area.")):
         found = next((i for i in range(at, len(out)) if want in out[i]), None)
         print(("found:   " if found is not None else "MISSING: ") + want)
         ok &= found is not None
         at = found if found is not None else at  # the next part may be on the same line
+    ok &= check_areas(r.stdout, [l for l in lines if l.startswith("area.")])
     if not ok:
         print(r.stdout[-3000:], r.stderr[-2000:])
     return 0 if ok else 1
@@ -486,6 +564,76 @@ def error(exe, prm, expected, *options):
     return numdiff(got, expected, 1e-6, 1e-12)
 
 
+def csv_fields(exe, prm, outdir, text):
+    """Run PRM into OUTDIR: every row of every CSV file it wrote has as many
+    fields as its header (csv module, RFC 4180 quoting), and a status of
+    contact.csv holds TEXT with a comma in it (a field that must be quoted)."""
+    import csv
+    import glob
+    run(exe, prm, outdir=outdir)
+    ok = True
+    for path in sorted(glob.glob(os.path.join(outdir, "*.csv"))):
+        table = list(csv.reader(open(path, newline="")))
+        bad = [i + 1 for i, r in enumerate(table[1:], 1) if len(r) != len(table[0])]
+        print(f"{os.path.basename(path)}: {len(table) - 1} rows of {len(table[0])} fields:",
+              "ok" if not bad else f"FAILED at lines {bad[:5]}")
+        ok &= not bad
+    status = [r["status"] for r in csv.DictReader(open(os.path.join(outdir, "contact.csv"),
+                                                       newline=""))]
+    found = any(text in s and "," in s for s in status)
+    print(f"a status with '{text}' and a comma:", "ok" if found else f"FAILED {status}")
+    return 0 if ok and found else 1
+
+
+def locked(exe, prm, outdir):
+    """--validate --output OUTDIR PRM while this process holds OUTDIR's lock
+    (as a running rotorfit does): refused with exit code 1, naming this
+    process id, and the lock file left as it was."""
+    import fcntl
+    os.makedirs(outdir, exist_ok=True)
+    with open(os.path.join(outdir, ".rotorfit.lock"), "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        lock.write(f"{os.getpid()}\n")
+        lock.flush()
+        r = subprocess.run([exe, "--validate", "--output", outdir, prm], capture_output=True,
+                           text=True)
+    print(r.returncode, r.stdout[-1500:], r.stderr)
+    want = f"Output/Directory = '{outdir}' is in use by another rotorfit run (process id {os.getpid()})"
+    ok = r.returncode == 1 and want in r.stderr
+    print("--validate refuses a folder another run holds:", "ok" if ok else "FAILED")
+    return 0 if ok else 1
+
+
+def plot_warning(exe, prm_latin1, prm, outdir):
+    """The run's warning about a picture gives the script's own error: a
+    Latin-1 case (PRM_LATIN1) makes plot_contact.py fail to decode its CSV
+    file, and the warning names UnicodeDecodeError without blaming
+    matplotlib; PRM with a matplotlib that cannot be imported (a stand-in
+    on PYTHONPATH) blames python3-matplotlib. Both runs end with exit code 0."""
+    import tempfile
+    fake = tempfile.mkdtemp()
+    os.makedirs(os.path.join(fake, "matplotlib"))
+    open(os.path.join(fake, "matplotlib", "__init__.py"), "w").write(
+        "raise ImportError(\"No module named 'matplotlib' (a stand-in of the test)\")\n")
+    ok = True
+    for case, env, want, unwanted in (
+            (prm_latin1, {}, "plot_contact.py failed: UnicodeDecodeError", "matplotlib"),
+            (prm, {"PYTHONPATH": fake}, "python3-matplotlib", None)):
+        out = os.path.join(outdir, os.path.splitext(os.path.basename(case))[0])
+        r = subprocess.run([exe, "--output", out, case], capture_output=True, text=True,
+                           errors="replace", env=dict(os.environ, **env))
+        lines = [l for l in r.stdout.splitlines() if "contact.png could not be drawn" in l]
+        print(f"{case}: exit code {r.returncode}; {lines}")
+        good = (r.returncode == 0 and len(lines) == 1 and want in lines[0] and
+                (unwanted is None or unwanted not in lines[0]))
+        if not good:
+            print(r.stdout[-3000:], r.stderr[-2000:])
+        print(f"warning with '{want}'" + (f", without '{unwanted}'" if unwanted else "") + ":",
+              "ok" if good else "FAILED")
+        ok &= good
+    return 0 if ok else 1
+
+
 if __name__ == "__main__":
     mode, args = sys.argv[1], sys.argv[2:]
     if mode == "compare":
@@ -506,6 +654,12 @@ if __name__ == "__main__":
         sys.exit(static_flags(*args))
     elif mode == "lock_and_signal":
         sys.exit(lock_and_signal(*args))
+    elif mode == "csv_fields":
+        sys.exit(csv_fields(*args))
+    elif mode == "locked":
+        sys.exit(locked(*args))
+    elif mode == "plot_warning":
+        sys.exit(plot_warning(*args))
     elif mode == "pictures":
         sys.exit(pictures(*args))
     elif mode == "falls":
@@ -521,9 +675,9 @@ if __name__ == "__main__":
     elif mode == "ratio":
         sys.exit(ratio(*args))
     elif mode == "same":
-        exe, prm, out1, out2, rtol, atol = args
+        exe, prm, out1, out2, rtol = args
         run(exe, prm, 1, out1)
         run(exe, prm, 2, out2)
-        sys.exit(numdiff(os.path.join(out1, "contact.csv"), os.path.join(out2, "contact.csv"),
-                         rtol, atol))
+        sys.exit(same_table(os.path.join(out1, "contact.csv"), os.path.join(out2, "contact.csv"),
+                            None, rtol))
     sys.exit(f"unknown mode {mode}")

@@ -32,11 +32,15 @@ Markers in DOC, each an HTML comment on the line before what it marks:
       the next ``` block is a part of the repository file PATH; the parts,
       in order and joined by one blank line, must be the whole file, so the
       listings in DOC are the shipped files.
-  <!-- tutorial: table [columns=2,3] -->
-      the next markdown table restates results: every number in its cells
-      (the header excepted; only the given columns, counted from 1, or all
-      but the first) must be, rounded to the digits shown, a number that
-      the commands printed. Thousands separators (16,588) are allowed.
+  <!-- tutorial: table columns=2,3 sections=A,B rows="P1 & P2 ; P3 * 1e-6 ; ..." -->
+      the next markdown table restates results. Each given column (counted
+      from 1) restates what the commands printed under the line '== A'
+      (the next, '== B', and so on); each table row names, in rows= (rows
+      separated by ' ; '), the printed value of each number in its cells
+      (' & ' between the numbers of one cell) as a regular expression that
+      the number follows, optionally scaled (' * 1e-6'). Every cell number
+      must be exactly that value rounded to the digits shown. Thousands
+      separators (16,588) are allowed.
 
 Images that DOC links (![..](path)) must exist. Exit code 0 when all
 checks pass, 1 otherwise; every check is printed.
@@ -194,27 +198,54 @@ def check_files(items, root, doc):
 
 
 def check_table(block, arg, printed, label):
-    """Numbers of the cells against the numbers printed, to the digits shown."""
-    columns = None
-    for word in arg.split():
-        if not word.startswith("columns="):
+    """Each checked cell against the one printed value it restates, to the
+    digits shown (see 'tutorial: table' above)."""
+    columns, sections, sources = None, None, None
+    for word in re.findall(r'(\w+)=("[^"]*"|\S+)', arg):
+        key, value = word[0], word[1].strip('"')
+        if key == "columns":
+            columns = [int(c) - 1 for c in value.split(",")]
+        elif key == "sections":
+            sections = value.split(",")
+        elif key == "rows":
+            sources = [row.split(" & ") for row in value.split(" ; ")]
+        else:
             sys.exit(f"{label}: cannot read 'tutorial: table {arg}'")
-        columns = [int(c) - 1 for c in word[8:].split(",")]
-    values = [float(x) for x in re.findall(NUM, printed)]
+    if not (columns and sections and sources) or len(sections) != len(columns):
+        sys.exit(f"{label}: 'tutorial: table' needs columns=, one of sections= per column and rows=")
+    rows = block[2:]
+    if len(sources) != len(rows):
+        sys.exit(f"{label}: rows= names {len(sources)} rows, the table has {len(rows)}")
     failures, n = [], 0
-    for row in block[2:]:
-        cells = [c.strip() for c in row.strip().strip("|").split("|")]
-        for cell in [cells[c] for c in (columns or range(1, len(cells))) if c < len(cells)]:
-            for token in re.findall(r"\d{1,3}(?:,\d{3})+(?:\.\d+)?|\d+(?:\.\d+)?(?:[eE][-+]?\d+)?",
-                                    cell):
+    for column, section in zip(columns, sections):
+        # the printed block that follows '== SECTION' (up to the next '== ')
+        m = re.search(r"^== " + re.escape(section) + r"\n(.*?)(?=^== |\Z)", printed, re.S | re.M)
+        if not m:
+            failures.append(f"{label}: nothing printed under '== {section}'")
+            continue
+        text = m.group(1)
+        for row, source in zip(rows, sources):
+            cells = [c.strip() for c in row.strip().strip("|").split("|")]
+            tokens = re.findall(r"\d{1,3}(?:,\d{3})+(?:\.\d+)?|\d+(?:\.\d+)?(?:[eE][-+]?\d+)?",
+                                cells[column])
+            if len(tokens) != len(source):
+                failures.append(f"{label}: row '{cells[0]}' column {column + 1} has "
+                                f"{len(tokens)} numbers, rows= names {len(source)}")
+                continue
+            for token, pattern in zip(tokens, source):
                 n += 1
+                pattern, _, scale = pattern.partition(" * ")
+                found = re.search(pattern + r"\s*(" + NUM + ")", text, re.M)
+                if not found:
+                    failures.append(f"{label}: '{pattern}' not printed under '== {section}'")
+                    continue
+                x = float(found.group(1)) * (float(scale) if scale else 1.0)
                 v = float(token.replace(",", ""))
                 plain = "." in token and "e" not in token.lower()
                 digits = len(token.split(".")[1]) if plain else 0
-                tol = 0.5 * 10.0 ** -digits * (1 + 1e-9)
-                if not any(abs(x - v) <= tol for x in values):
-                    failures.append(f"{label}: '{token}' (row '{cells[0]}') is no printed "
-                                    f"number rounded to {digits} decimal(s)")
+                if abs(x - v) > 0.5 * 10.0 ** -digits * (1 + 1e-9):
+                    failures.append(f"{label}: '{token}' (row '{cells[0]}', {section}) is not "
+                                    f"{pattern} = {x:g} rounded to {digits} decimal(s)")
     return n, failures
 
 
