@@ -517,8 +517,9 @@ def check_free_spin(exe, prm, out, tol):
     for key, tol_key in (("check.tilt_virial", 7.5e-7), ("check.twist_virial", 1e-9)):
         ok &= report(key, float(summary[key]), 1.0, tol_key)
     c = float(summary["check.tilt_cancellation"])
-    good = abs(c) < 1e-3
-    print(f"check.tilt_cancellation: {c:.3e} (|.| < 1e-3) {'ok' if good else 'FAILED'}")
+    # recorded 9e-6 (the tetrahedral mesh's asymmetry, doc/theory.md): 5e-5
+    good = abs(c) < 5e-5
+    print(f"check.tilt_cancellation: {c:.3e} (|.| < 5e-5) {'ok' if good else 'FAILED'}")
     ok &= good
     return 0 if ok else 1
 

@@ -190,26 +190,39 @@ namespace rotorfit
       std::vector<std::pair<std::string, std::string>> sets;
     };
 
-    /// False if @p args are not [--validate] [--output DIR] FILE.
-    bool
+    /// Empty if @p args are [--validate] [--output DIR] [--set E=V]... FILE;
+    /// otherwise what is wrong with them, naming the argument.
+    std::string
     parse_case_options(const std::vector<std::string> &args, CaseOptions &options)
     {
       for (std::size_t i = 0; i < args.size(); ++i)
         if (args[i] == "--validate")
           options.validate = true;
-        else if (args[i] == "--output" && i + 1 < args.size() && options.output_override.empty())
-          options.output_override = args[++i];
-        else if (args[i] == "--set" && i + 1 < args.size() &&
-                 args[i + 1].find('=') != std::string::npos)
+        else if (args[i] == "--output")
           {
+            if (i + 1 == args.size() || args[i + 1].empty())
+              return "--output needs a directory.";
+            if (!options.output_override.empty())
+              return "--output is given twice ('" + options.output_override + "', '" +
+                     args[i + 1] + "').";
+            options.output_override = args[++i];
+          }
+        else if (args[i] == "--set")
+          {
+            if (i + 1 == args.size() || args[i + 1].find('=') == std::string::npos)
+              return "--set " + (i + 1 == args.size() ? std::string("needs") :
+                                                         "'" + args[i + 1] + "' has no '=': write") +
+                     " 'Subsection/Entry=value'.";
             const std::string &a = args[++i];
             options.sets.emplace_back(a.substr(0, a.find('=')), a.substr(a.find('=') + 1));
           }
-        else if (args[i].rfind("-", 0) != 0 && options.file.empty())
-          options.file = args[i];
+        else if (args[i].rfind("-", 0) == 0)
+          return "unknown option '" + args[i] + "'.";
+        else if (!options.file.empty())
+          return "two parameter files ('" + options.file + "', '" + args[i] + "'); give one.";
         else
-          return false;
-      return !options.file.empty();
+          options.file = args[i];
+      return options.file.empty() ? "no parameter file given." : "";
     }
 
     /// The speed sweep of a set-up case: the exit code, and the run's status
@@ -406,10 +419,10 @@ namespace rotorfit
     if (const int code = information(args, root); code >= 0)
       return code;
     CaseOptions options;
-    if (!parse_case_options(args, options))
+    if (const std::string wrong = parse_case_options(args, options); !wrong.empty())
       {
         if (root)
-          std::cerr << "rotorfit: error: unknown arguments.\n" << usage;
+          std::cerr << "rotorfit: error: " << printable(wrong) << "\n" << usage;
         return exit_code::input_error;
       }
     Log log(root);

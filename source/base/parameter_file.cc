@@ -122,6 +122,9 @@ namespace rotorfit
   {
     if (!std::filesystem::exists(filename))
       throw InputError("the parameter file '" + filename + "' does not exist.");
+    if (!std::filesystem::is_regular_file(filename))
+      throw InputError("the parameter file '" + filename +
+                       "' is not a regular file (a directory?); give the .prm or .json file.");
     std::ifstream in(filename, std::ios::binary);
     if (!in)
       throw InputError("the parameter file '" + filename + "' cannot be read.");

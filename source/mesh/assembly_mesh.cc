@@ -20,6 +20,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <unordered_map>
 #include <fstream>
@@ -144,10 +147,59 @@ namespace rotorfit
     prm.leave_subsection();
   }
 
+  namespace
+  {
+    // gmsh throws from inside its OpenMP regions on some bad input (a mesh
+    // size of zero or less), where no catch can reach it and the runtime
+    // calls std::terminate: this handler turns the abort into an input
+    // error. std::set_terminate takes no context, hence the file-scope text.
+    std::string gmsh_context;
+
+    [[noreturn]] void
+    gmsh_aborted()
+    {
+      std::string what = "no message";
+      if (const std::exception_ptr e = std::current_exception())
+        try
+          {
+            std::rethrow_exception(e);
+          }
+        catch (const std::string &s)
+          {
+            what = s;
+          }
+        catch (const std::exception &x)
+          {
+            what = x.what();
+          }
+        catch (...)
+          {
+          }
+      std::fprintf(stderr,
+                   "rotorfit: error: %s: gmsh stopped while meshing (%s); a mesh size of zero "
+                   "or less, or a geometry gmsh cannot mesh, does this: check the parameters.\n",
+                   gmsh_context.c_str(), printable(what).c_str());
+      std::_Exit(1);
+    }
+  } // namespace
+
   AssemblyMesh::GmshData
   AssemblyMesh::run_gmsh() const
   {
     GmshData data;
+    gmsh_context = "Geometry/Geometry file '" + geometry_filename + "'";
+    if (!geometry_parameters.empty())
+      {
+        std::ostringstream list;
+        for (const auto &[name, value] : geometry_parameters)
+          list << (list.tellp() > 0 ? ", " : "") << name << ": " << value;
+        gmsh_context += " with Geometry/Geometry parameters '" + list.str() + "'";
+      }
+    struct TerminateGuard // the handler only while gmsh runs
+    {
+      std::terminate_handler previous = std::set_terminate(gmsh_aborted);
+      ~TerminateGuard() { std::set_terminate(previous); }
+    } guard;
     gmsh::initialize();
     gmsh::option::setNumber("General.Terminal", 0);
     gmsh::option::setNumber("General.Verbosity", 2);
