@@ -42,6 +42,9 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
+# the .msh and .dat readers are the test suite's (tests/calculix_reference.py)
+sys.path.insert(0, os.path.join(ROOT, "tests"))
+from calculix_reference import TET10, read_ccx_complex, read_ccx_real, read_msh22  # noqa: E402
 
 # TS (prm/test_shaft.prm): materials and bearings
 MATERIALS = {"shaft": (205e9, 0.30, 7850.0), "sleeve": (68.9e9, 0.33, 2700.0)}
@@ -67,44 +70,9 @@ def mesh(work, h_fit, h_max):
     return msh
 
 
-def read_msh22(path):
-    """Nodes {tag: xyz}, physical names {tag: name} and elements
-    [(type, physical tag, node tags)] of an ASCII .msh 2.2 file."""
-    with open(path) as f:
-        lines = f.read().split("\n")
-    names, nodes, elements = {}, {}, []
-    i = 0
-    while i < len(lines):
-        key = lines[i].strip()
-        if key == "$PhysicalNames":
-            n = int(lines[i + 1])
-            for line in lines[i + 2:i + 2 + n]:
-                dim, tag, name = line.split(maxsplit=2)
-                names[int(tag)] = name.strip('"')
-            i += n + 2
-        elif key == "$Nodes":
-            n = int(lines[i + 1])
-            for line in lines[i + 2:i + 2 + n]:
-                p = line.split()
-                nodes[int(p[0])] = np.array([float(v) for v in p[1:4]])
-            i += n + 2
-        elif key == "$Elements":
-            n = int(lines[i + 1])
-            for line in lines[i + 2:i + 2 + n]:
-                p = [int(v) for v in line.split()]
-                ntags = p[2]
-                elements.append((p[1], p[3], p[3 + ntags:]))
-            i += n + 2
-        else:
-            i += 1
-    return nodes, names, elements
-
-
 # CalculiX reads at most 20 characters a number and 132 a line (%.13g);
 # material, spring and load values are written with an exponent (%.13e):
 # "10000000" as a spring constant gave "*SPRING card without data".
-# gmsh tet10 -> Abaqus/CalculiX C3D10: the last two mid-edge nodes swap
-TET10 = [0, 1, 2, 3, 4, 5, 6, 7, 9, 8]
 
 
 def tri6_weights(nodes, tris):
@@ -244,47 +212,6 @@ def timed(cmd, cwd, log, env=None):
         die("%s failed (exit %d); see %s" % (" ".join(cmd), p.returncode,
                                              log))
     return wall, int(m.group(1)) / 1024 ** 2 if m else float("nan")
-
-
-def read_ccx_complex(dat):
-    """[(frequency [Hz], 'F' or 'B')] of the complex-frequency step of a .dat
-    file: rotating frame, unsigned, with CalculiX's turning direction."""
-    text = open(dat, errors="replace").read()
-    blocks = text.split("E I G E N V A L U E   O U T P U T")
-    if len(blocks) < 3:
-        die("%s: no complex eigenvalue output" % dat)
-    table = blocks[-1].split("P A R T I C I P A T I O N")[0]
-    freqs = {}
-    for line in table.split("\n"):
-        p = line.split()
-        # mode, real part [rad/s], frequency [Hz], imaginary part [rad/s]
-        if len(p) == 4 and p[0].isdigit():
-            freqs[int(p[0])] = float(p[2])
-    turning = {}
-    tail = text.split("T U R N I N G   D I R E C T I O N")
-    if len(tail) > 1:
-        for line in tail[-1].split("\n"):
-            p = line.split()
-            if len(p) == 2 and p[0].isdigit() and p[1] in ("F", "B"):
-                turning[int(p[0])] = p[1]
-    if not freqs:
-        die("%s: could not read the complex frequencies" % dat)
-    return [(freqs[k], turning.get(k, "?")) for k in sorted(freqs)]
-
-
-def read_ccx_real(dat):
-    """Frequencies [Hz] of the *FREQUENCY step (the first eigenvalue block;
-    CalculiX prints only those above the step's lower bound)."""
-    text = open(dat, errors="replace").read()
-    block = text.split("E I G E N V A L U E   O U T P U T")[1]
-    block = block.split("P A R T I C I P A T I O N")[0]
-    out = []
-    for line in block.split("\n"):
-        p = line.split()
-        # mode, eigenvalue, real part [rad/s], frequency [Hz], imaginary
-        if len(p) == 5 and p[0].isdigit():
-            out.append(float(p[3]))
-    return out
 
 
 def read_campbell(path):
