@@ -59,6 +59,8 @@ namespace rotorfit
       start,
       end
     };
+    /// One selector of Geometry/Sections/Surfaces: a side of a body, the
+    /// outer or inner one within [z_from, z_to] [m].
     struct Selector
     {
       unsigned int body;
