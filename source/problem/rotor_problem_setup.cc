@@ -200,7 +200,7 @@ namespace rotorfit
               Utilities::MPI::n_mpi_processes(comm) * eigen.state_vectors_needed(n) * 2 * n * 8.;
     const double peak = std::max(statics, modes);
     // rank 0 decides for all (ranks may see other environments or nodes)
-    const double limit = Utilities::MPI::broadcast(comm, physical_memory_bytes(), 0);
+    const double limit = Utilities::MPI::broadcast(comm, model.memory_limit(), 0);
     log << "Memory estimate: " << gigabytes(peak) << " at the peak ("
         << (modes > statics ? "eigenproblem" : "static solve") << "), machine "
         << gigabytes(limit) << '\n';
@@ -210,7 +210,7 @@ namespace rotorfit
                        (modes > statics ? "the eigenproblem's LU and Krylov space" :
                                           "the static factorisation") +
                        ") but this run may use " + gigabytes(limit) +
-                       " (the machine's memory, or ROTORFIT_MEMORY_GB)" +
+                       " (Resources/Memory limit)" +
                        "; coarsen the mesh, or lower Eigenproblem/Number of modes or Krylov "
                        "size factor.");
   }
