@@ -157,6 +157,33 @@ namespace rotorfit
   private:
     void
     destroy();
+    /// The numeric phase alone on the analysis made for @p A: false (and
+    /// a workspace retry counted) where MUMPS ran out of room.
+    bool
+    refactorize_on_analysis(Mat A);
+    /// A new KSP with MUMPS's analysis and factorisation of @p A, retried
+    /// with more workspace where the delayed pivots need it.
+    void
+    analyse_and_factorize(Mat A, MPI_Comm comm);
+    /// @p order: the update's columns, those of the last update it keeps
+    /// first (their columns of Z moved to the front of update_z); returns
+    /// their number.
+    std::size_t
+    keep_update_columns(const std::vector<UpdateColumn> &columns,
+                        std::vector<UpdateColumn>       &order);
+    /// Z = A^-1 U for the columns of @p order after the @p retained first.
+    void
+    back_substitute_update(const std::vector<UpdateColumn> &order, std::size_t retained);
+    /// The LU of the capacitance matrix diag(1/s) + U^T Z; the update
+    /// becomes @p order's, or false (and no update) if it is singular.
+    bool
+    factorize_capacitance(std::vector<UpdateColumn> &&order);
+    /// @p row is one of this rank's
+    bool
+    owns(const PetscInt row) const
+    {
+      return row >= row_begin && row < row_begin + local_rows;
+    }
     /// x -= Z c for the @p k local columns of @p x (leading dimension
     /// @p lda), c from the capacitance system (the current update).
     void
