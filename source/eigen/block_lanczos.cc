@@ -1,5 +1,6 @@
 #include <rotorfit/eigen/block_lanczos.h>
 #include <rotorfit/eigen/damped_eigensolver.h>
+#include <rotorfit/linear_algebra/replicated_blocks.h>
 
 #include <AnasaziBasicEigenproblem.hpp>
 #include <AnasaziBlockKrylovSchurSolMgr.hpp>
