@@ -15,6 +15,8 @@ namespace rotorfit
   class BackwardError
   {
   public:
+    /// The error's scale from the Frobenius norms of @p M, @p C and @p K
+    /// (kept referenced for the products).
     BackwardError(const dealii::PETScWrappers::MPI::SparseMatrix &M,
                   const dealii::PETScWrappers::MPI::SparseMatrix &C,
                   const dealii::PETScWrappers::MPI::SparseMatrix &K);

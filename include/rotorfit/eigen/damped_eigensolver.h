@@ -44,9 +44,11 @@ namespace rotorfit
   class DampedEigensolver
   {
   public:
+    /// The solver entries of subsection "Eigenproblem".
     static void
     declare_parameters(dealii::ParameterHandler &prm);
 
+    /// Reads the entries of declare_parameters().
     void
     parse_parameters(dealii::ParameterHandler &prm);
 
@@ -123,18 +125,23 @@ namespace rotorfit
     unsigned int
     krylov_size(const unsigned int nev, const double growth = 1) const;
 
+    /// The shift sigma [rad/s] (parameter "Shift", given in Hz).
     double
     shift() const
     {
       return sigma;
     }
 
+    /// Largest backward error of a converged mode (parameter "Backward
+    /// error limit").
     double
     backward_error_limit() const
     {
       return max_backward_error;
     }
 
+    /// The factorisation of the last solve: Q(sigma) after solve() or
+    /// factorize(), S after solve_undamped().
     const DirectSolver &
     linear_solver() const
     {

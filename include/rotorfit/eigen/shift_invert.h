@@ -18,6 +18,7 @@ namespace rotorfit
   class StateMass
   {
   public:
+    /// @p n: the size of M (half the state's).
     StateMass(const dealii::PETScWrappers::MPI::SparseMatrix &M, const std::size_t n);
 
     /// y = B x
@@ -44,6 +45,7 @@ namespace rotorfit
                          const std::size_t                               n,
                          unsigned int                                   &applications);
 
+    /// y = (A - sigma B)^{-1} r
     void
     vmult(dealii::Vector<double> &y, const dealii::Vector<double> &r) const;
 
@@ -65,6 +67,7 @@ namespace rotorfit
   public:
     explicit ReplicatedMass(const dealii::PETScWrappers::MPI::SparseMatrix &M);
 
+    /// y = M x
     void
     vmult(dealii::Vector<double> &y, const dealii::Vector<double> &x) const;
 
@@ -83,6 +86,7 @@ namespace rotorfit
                       const dealii::PETScWrappers::MPI::SparseMatrix &layout,
                       unsigned int                                   &applications);
 
+    /// y = S^-1 x
     void
     vmult(dealii::Vector<double> &y, const dealii::Vector<double> &x) const;
 

@@ -9,7 +9,7 @@ namespace rotorfit
   /// A complex vector as two real ones (replicated on every rank).
   struct ComplexVector
   {
-    dealii::Vector<double> re, im;
+    dealii::Vector<double> re, im; ///< real and imaginary parts
   };
 
   /// Pointers to each of @p list (the output columns of a block product).

@@ -25,6 +25,7 @@ namespace rotorfit
   class DirectSolver
   {
   public:
+    /// The factorisation: LDL^T or LU.
     enum class Type
     {
       mumps_cholesky,
@@ -37,9 +38,11 @@ namespace rotorfit
     DirectSolver &
     operator=(const DirectSolver &) = delete;
 
+    /// The entries of subsection "Linear solver".
     static void
     declare_parameters(dealii::ParameterHandler &prm);
 
+    /// Reads the entries of declare_parameters().
     void
     parse_parameters(dealii::ParameterHandler &prm);
 
@@ -75,12 +78,14 @@ namespace rotorfit
     void
     solve_sparse(Mat X, Mat Bt) const;
 
+    /// A factorisation is at hand.
     bool
     factorized() const
     {
       return ksp != nullptr;
     }
 
+    /// Factorisations made (numeric phases alone included).
     unsigned int
     n_factorizations() const
     {
@@ -101,12 +106,14 @@ namespace rotorfit
       return workspace_retries;
     }
 
+    /// Right-hand sides back-substituted.
     unsigned int
     n_solves() const
     {
       return solves;
     }
 
+    /// The solver's name for the log.
     std::string
     name() const;
 

@@ -61,8 +61,8 @@ namespace rotorfit
   /// A^-1 P_target = base + factor A^-1 P_source (source before target).
   struct GramShortcut
   {
-    std::size_t                source, target;
-    const std::vector<double> *base;
+    std::size_t                source, target; ///< block indices, source < target
+    const std::vector<double> *base;           ///< n x m_target, column-major
     double                     factor;
   };
 

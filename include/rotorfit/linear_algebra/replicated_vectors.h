@@ -41,9 +41,9 @@ namespace rotorfit
       , b(owned, comm)
       , c(owned, comm)
     {}
-    dealii::IndexSet                   owned;
-    MPI_Comm                           comm;
-    dealii::PETScWrappers::MPI::Vector a, b, c;
+    dealii::IndexSet                   owned; ///< the matrix's locally owned rows
+    MPI_Comm                           comm;  ///< the matrix's communicator
+    dealii::PETScWrappers::MPI::Vector a, b, c; ///< free for the caller's use
   };
 
   /// y = A x (or A^T x) for replicated vectors (x, y of full size), A distributed.
