@@ -1,5 +1,6 @@
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/eigen/prestressed_eigenproblem.h>
+#include <rotorfit/linear_algebra/replicated_blocks.h>
 #include <rotorfit/statics/speed_schedule.h>
 
 #include <deal.II/base/mpi.h>

@@ -1,4 +1,5 @@
 #include <rotorfit/eigen/prestressed_eigenproblem.h>
+#include <rotorfit/linear_algebra/replicated_blocks.h>
 
 #include <algorithm>
 #include <array>

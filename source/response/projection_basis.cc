@@ -1,3 +1,4 @@
+#include <rotorfit/linear_algebra/replicated_blocks.h>
 #include <rotorfit/response/projection_basis.h>
 
 #include <deal.II/base/mpi.h>

@@ -1,6 +1,7 @@
 #include <rotorfit/base/format.h>
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/base/patterns.h>
+#include <rotorfit/linear_algebra/replicated_blocks.h>
 #include <rotorfit/response/projection_basis.h>
 #include <rotorfit/response/unbalance_response.h>
 #include <rotorfit/statics/speed_schedule.h>

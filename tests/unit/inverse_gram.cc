@@ -15,6 +15,7 @@
 // subtracting D V (and equal to B V to rounding, 1e-15). On 1 and 2 ranks.
 
 #include <rotorfit/eigen/damped_eigensolver.h>
+#include <rotorfit/linear_algebra/replicated_blocks.h>
 
 #include <deal.II/base/index_set.h>
 #include <deal.II/base/mpi.h>
