@@ -8,7 +8,6 @@
 
 #include <deal.II/base/mpi.h>
 
-#include <array>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -78,7 +77,8 @@ namespace rotorfit
     results.check_speeds(speeds.speeds_rpm());
     refinement.parse_parameters(prm, model.mesh().hexahedral());
     prm.enter_subsection("Contact");
-    stop_on_loss_of_fit = prm.get("On loss of fit") == "stop";
+    on_loss_of_fit =
+      prm.get("On loss of fit") == "stop" ? OnLossOfFit::stop : OnLossOfFit::continue_sweep;
     prm.leave_subsection();
     case_checks::surface_use(model, eigen.bearing_list(), log);
   }
@@ -126,7 +126,7 @@ namespace rotorfit
 
         finished_steps = k + 1;
         log_speed(state);
-        if (stop_on_loss_of_fit && statics.every_fit_open())
+        if (on_loss_of_fit == OnLossOfFit::stop && statics.every_fit_open())
           {
             log << "Every fit is fully open: the sweep stops here (Contact/On "
                    "loss of fit = stop).\n";
@@ -292,16 +292,20 @@ namespace rotorfit
     // run needs; its parameters.prm records these entries
     ParameterHandler prm;
     read_case(prm);
-    for (const auto &[section, entry, value] :
-         std::vector<std::array<std::string, 3>>{{"Speeds", "Mode", "list"},
-                                                 {"Speeds", "List", list},
-                                                 {"Output", "Write ParaView files", "false"},
-                                                 {"Eigenproblem", "Write mode shapes", "false"},
-                                                 {"Output", "Pictures", "false"},
-                                                 {"Mesh refinement", "Cycles", "0"}})
+    struct Entry
+    {
+      const char *section, *name;
+      std::string value;
+    };
+    for (const Entry &e : {Entry{"Speeds", "Mode", "list"},
+                           Entry{"Speeds", "List", list},
+                           Entry{"Output", "Write ParaView files", "false"},
+                           Entry{"Eigenproblem", "Write mode shapes", "false"},
+                           Entry{"Output", "Pictures", "false"},
+                           Entry{"Mesh refinement", "Cycles", "0"}})
       {
-        prm.enter_subsection(section);
-        prm.set(entry, value);
+        prm.enter_subsection(e.section);
+        prm.set(e.name, e.value);
         prm.leave_subsection();
       }
     parse_parameters(prm,

@@ -191,7 +191,13 @@ namespace rotorfit
     MeshRefinement          refinement;
     std::string             prm_directory; ///< where the .prm's relative names start
     bool                    collect_indicators = false;
-    bool                    stop_on_loss_of_fit = false;
+    /// What the sweep does once every fit is fully open (Contact/On loss of fit).
+    enum class OnLossOfFit
+    {
+      continue_sweep,
+      stop
+    };
+    OnLossOfFit on_loss_of_fit = OnLossOfFit::continue_sweep;
 
     // where the sweep is (progress(), finish())
     bool         assembled      = false;
