@@ -41,6 +41,7 @@ namespace rotorfit
     active_set.initialize(system.pairs, settings.max_active_set_iterations, exact_path());
     current = Decomposition();
     current.active.assign(pairs->pairs().size(), true); // at rest every pair is closed
+    shared_law.reset();
   }
 
   ContactSolver::State
@@ -65,7 +66,12 @@ namespace rotorfit
     const std::vector<bool> before = current.active;
     settle(w, state);
     if (exact_path())
-      exact.arrive(w, before, roots, state, current);
+      {
+        const bool displaced = current.has_displacements();
+        exact.arrive(w, before, roots, state, current);
+        if (!displaced)
+          shared_law.reset(); // the law now has its displacements
+      }
 
     if (!current.uzawa_converged)
       {
@@ -102,6 +108,15 @@ namespace rotorfit
       exact_path() ? exact.decompose(active) : sampled.decompose(active, w, current);
     next.serial = ++decompositions;
     current     = std::move(next);
+    shared_law.reset();
+  }
+
+  std::shared_ptr<const ContactSolver::Decomposition>
+  ContactSolver::law() const
+  {
+    if (!shared_law)
+      shared_law = std::make_shared<const Decomposition>(current);
+    return shared_law;
   }
 
   void

@@ -18,6 +18,7 @@
 #include <deal.II/lac/petsc_vector.h>
 #include <deal.II/lac/vector.h>
 
+#include <memory>
 #include <vector>
 
 namespace rotorfit
@@ -105,6 +106,14 @@ namespace rotorfit
     {
       return current;
     }
+
+    /**
+     * The same law, shared: one object for every speed on it until a new
+     * law is made, so that its identity is the pointer (a keeper of the law
+     * needs no serial number) and speeds on one law share its storage.
+     */
+    std::shared_ptr<const Decomposition>
+    law() const;
 
     /// Displacement at w of decomposition @p d, ghosted (all DoFs).
     void
@@ -238,5 +247,7 @@ namespace rotorfit
 
     Decomposition current;
     unsigned int  decompositions = 0; ///< laws made so far (their serial)
+    /// the copy of current that law() hands out; dropped when current changes
+    mutable std::shared_ptr<const Decomposition> shared_law;
   };
 } // namespace rotorfit
