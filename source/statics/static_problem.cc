@@ -63,7 +63,6 @@ namespace rotorfit
       assemble_system();
     }
     ahead.clear();
-    last_law.reset();
     contact.initialize({model.pairs(),
                         model.static_constraints(),
                         stiffness,
@@ -214,10 +213,7 @@ namespace rotorfit
       s.contact = contact.solve(w);
     }
     // one copy of the law per segment: speeds on it share it
-    const auto &d = contact.decomposition();
-    if (!(last_law && last_law->serial == d.serial))
-      last_law = std::make_shared<const ContactSolver::Decomposition>(d);
-    s.law = last_law;
+    s.law = contact.law();
     return s;
   }
 

@@ -125,7 +125,6 @@ namespace rotorfit
       std::exception_ptr failure;
     };
     std::vector<Ahead>                                   ahead;
-    std::shared_ptr<const ContactSolver::Decomposition> last_law;
 
     dealii::PETScWrappers::MPI::SparseMatrix stiffness;
     dealii::PETScWrappers::MPI::SparseMatrix spin_softening_matrix;
