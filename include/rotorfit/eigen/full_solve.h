@@ -26,6 +26,7 @@ namespace rotorfit
   class FullSolve
   {
   public:
+    /// Full solves of @p operators with @p eigensolver.
     FullSolve(const Discretization   &model,
               SpeedTangent           &operators,
               DampedEigensolver      &eigensolver,

@@ -24,6 +24,8 @@ namespace rotorfit
   class ModeClassifier
   {
   public:
+    /// The modes of @p model on its @p bearings with the contact model of
+    /// @p operators and the Backward error limit of @p eigensolver.
     ModeClassifier(const Discretization           &model,
                    const Bearings                 &bearings,
                    const SpeedTangent::Settings   &operators,

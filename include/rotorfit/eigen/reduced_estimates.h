@@ -27,6 +27,8 @@ namespace rotorfit
   class ReducedEstimates
   {
   public:
+    /// The estimates on @p reduced with the latest factorisation of
+    /// @p eigensolver.
     ReducedEstimates(ReducedModel            &reduced,
                      const SpeedTangent      &operators,
                      const DampedEigensolver &eigensolver,
@@ -58,6 +60,7 @@ namespace rotorfit
       std::vector<double> e;
       bool                e_checked = false, e_refused = false;
     };
+    /// The Gram matrices of the current key.
     const ResidualGram &
     gram() const
     {
@@ -109,6 +112,8 @@ namespace rotorfit
     /// tolerance is 10 x the floor.
     static constexpr double gram_agreement = 1e-2, gram_floor = 1e-10;
 
+    /// Gram matrices checked against back-substitutions, and the largest
+    /// relative difference of their estimates
     unsigned int builds = 0;
     double       worst_difference = 0;
     /// largest relative difference of residual norms from ResidualGram::e

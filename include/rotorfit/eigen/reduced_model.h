@@ -30,6 +30,7 @@ namespace rotorfit
   class ReducedModel
   {
   public:
+    /// The reduced model of the speed's @p operators.
     ReducedModel(const SpeedTangent &operators, const Bearings &bearings);
 
     /// The basis and its settings.
@@ -38,6 +39,7 @@ namespace rotorfit
     {
       return reduced;
     }
+    /// The basis's entries (ReducedBasis::parse_parameters()).
     void
     parse_parameters(dealii::ParameterHandler &prm)
     {
@@ -51,6 +53,7 @@ namespace rotorfit
     unsigned int
     add(const std::vector<const dealii::Vector<double> *> &x,
         const dealii::PETScWrappers::MPI::SparseMatrix    &M);
+    /// The coverage of an anchor whose vectors were added.
     void
     add_anchor(const ReducedBasis::Anchor &anchor)
     {
@@ -70,6 +73,7 @@ namespace rotorfit
     {
       lasting_basis = true;
     }
+    /// The basis is a lasting anchor's, unchanged since.
     bool
     lasting() const
     {
@@ -110,16 +114,19 @@ namespace rotorfit
       /// the tangent assembly (SpeedTangent::serial()) av_tangent was made of
       unsigned int tangent_serial = 0;
     };
+    /// The projections of the latest update_projections().
     const Projections &
     projections() const
     {
       return p;
     }
+    /// What the tangent projection was made for (empty: dropped).
     std::optional<ProjectionKey>
     tangent_key() const
     {
       return key_tangent;
     }
+    /// What the bearing projection was made for (empty: dropped).
     std::optional<ProjectionKey>
     bearing_key() const
     {
@@ -212,11 +219,13 @@ namespace rotorfit
       speed_Cr = std::move(Cr);
       speed_Kr = std::move(Kr);
     }
+    /// V^T C V of the latest reduced speed
     const dealii::FullMatrix<double> &
     speed_damping() const
     {
       return speed_Cr;
     }
+    /// V^T K_t V of the latest reduced speed
     const dealii::FullMatrix<double> &
     speed_stiffness() const
     {

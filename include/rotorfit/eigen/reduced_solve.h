@@ -31,6 +31,7 @@ namespace rotorfit
   class ReducedSolve
   {
   public:
+    /// Speeds on @p reduced, checked with @p estimates.
     ReducedSolve(ReducedModel            &reduced,
                  ReducedEstimates        &estimates,
                  const SpeedTangent      &operators,

@@ -55,8 +55,10 @@ namespace rotorfit
       bool static_spin_softening = false;
     };
 
+    /// The operators of @p model with its @p bearings.
     SpeedTangent(const Discretization &model, const Bearings &bearings, dealii::TimerOutput &timer);
 
+    /// Set by PrestressedEigenproblem::parse_parameters().
     Settings settings;
 
     /// The sparsity patterns of every matrix (after Bearings::setup()).
@@ -115,23 +117,27 @@ namespace rotorfit
     stiffening_share(const std::vector<const dealii::Vector<double> *> &x,
                      std::vector<dealii::Vector<double>>               &k2) const;
 
+    /// The model's communicator.
     MPI_Comm
     communicator() const
     {
       return comm;
     }
 
+    /// Stress stiffening moves with the speed (K_t2 != 0: full stiffening).
     bool
     stiffening_moves() const
     {
       return settings.stiffening == StressStiffening::full;
     }
 
+    /// M, K + K_sigma, G, K_theta (K_theta empty where folded()).
     const RotorMatrices &
     speed_independent() const
     {
       return matrices;
     }
+    /// M
     const dealii::PETScWrappers::MPI::SparseMatrix &
     mass() const
     {
@@ -154,6 +160,7 @@ namespace rotorfit
     {
       return damping_matrix;
     }
+    /// C_b of the bearings
     const dealii::PETScWrappers::MPI::SparseMatrix &
     bearing_damping() const
     {

@@ -24,6 +24,7 @@ namespace rotorfit
   class StressSelfCheck
   {
   public:
+    /// Checks of @p model, their values also into @p log.
     StressSelfCheck(const Discretization &model, Log &log);
 
     /// w^T K_theta w of the tilt and twist fields, taken from @p matrices

@@ -22,6 +22,7 @@ namespace rotorfit
   class TieUpdate
   {
   public:
+    /// The ties of @p model's pairs as @p operators makes them.
     TieUpdate(const Discretization &model, const Bearings &bearings, const SpeedTangent &operators);
 
     /// The LDL^T @p solver has just made (its n_factorizations()) holds

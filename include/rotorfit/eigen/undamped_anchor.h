@@ -30,6 +30,7 @@ namespace rotorfit
   class UndampedAnchor
   {
   public:
+    /// Anchors of @p reduced, with the factorisations of @p eigensolver.
     UndampedAnchor(const Discretization &model,
                    ReducedModel         &reduced,
                    ReducedEstimates     &estimates,
