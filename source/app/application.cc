@@ -137,12 +137,10 @@ namespace rotorfit
     }
 
     /// --set overrides: a studied variant of a case without a copy of its
-    /// .prm. The entry's pattern checks the value. @p user: the command
-    /// line's (messages name them), not the refinement cycles' own.
+    /// .prm. The entry's pattern checks the value.
     void
     apply_sets(ParameterHandler                                       &prm,
-               const std::vector<std::pair<std::string, std::string>> &sets,
-               const bool                                              user = true)
+               const std::vector<std::pair<std::string, std::string>> &sets)
     {
       for (const auto &[path, value] : sets)
         {
@@ -176,8 +174,7 @@ namespace rotorfit
             {
               throw InputError(argument + ": " + message_of(e));
             }
-          if (user)
-            record_override(path, path + "=" + value);
+          record_override(path, path + "=" + value);
         }
     }
 
@@ -225,95 +222,34 @@ namespace rotorfit
       return options.file.empty() ? "no parameter file given." : "";
     }
 
-    /// The speed sweep of a set-up case: the exit code, and the run's status
-    /// in summary.txt (a refusal during the sweep is left to the caller).
-    int
-    run_sweep(RotorProblem &problem, const MPI_Comm comm, Log &log)
+    /// The case's file with the command line's --set overrides, into @p prm.
+    void
+    read_case(ParameterHandler &prm, const CaseOptions &options)
     {
-      try
-        {
-          run_control::stop_if_interrupted(comm, "before the first speed");
-          problem.run();
-        }
-      catch (const InputError &)
-        {
-          throw;
-        }
-      catch (const Interrupted &e)
-        {
-          const std::string where = problem.progress();
-          log << "rotorfit: " << e.what() << "; stopped " << where
-              << ". The finished speeds are in " << problem.output_directory() << ".\n";
-          problem.finish("interrupted", exit_code::interrupted, where, e.what());
-          return exit_code::interrupted;
-        }
-      catch (const std::exception &e)
-        {
-          const std::string where = problem.progress();
-          log << "rotorfit: failure during the solve (" << where << "): " << e.what()
-              << "\nThe speeds already done are in " << problem.output_directory() << ".\n";
-          problem.finish("failed", exit_code::solver, where, e.what());
-          return exit_code::solver;
-        }
-      problem.finish("completed", exit_code::success);
-      return exit_code::success;
+      parse_file(prm, options.file);
+      apply_sets(prm, options.sets);
     }
 
-    /**
-     * Adaptive refinement (doc/theory.md 1.4): Mesh refinement/Cycles runs
-     * of the case at its indicator speeds, each in <output>/cycle_<k>/, each
-     * refining the section mesh where its indicators are largest. Returns
-     * the nodes the final run's mesh adds, or sets @p code when a cycle
-     * stopped (its results stay in its folder).
-     */
-    SectionMesh::Refinement
-    refine_mesh(const CaseOptions  &options,
-                const RotorProblem &main,
-                const MPI_Comm      comm,
-                Log                &log,
-                int                &code)
+    /// The case read into @p prm and parsed by a new problem.
+    std::unique_ptr<RotorProblem>
+    open_case(ParameterHandler &prm, const CaseOptions &options, const MPI_Comm comm, Log &log)
     {
-      const MeshRefinement   &r = main.mesh_refinement();
-      SectionMesh::Refinement refinement;
-      std::string             list;
-      for (const double s : r.speeds())
-        list += (list.empty() ? "" : ", ") + format_number(s);
-      const std::string dir = std::filesystem::path(options.file).parent_path().string();
-      code                  = exit_code::success;
-      for (unsigned int c = 0; c < r.cycles(); ++c)
+      read_case(prm, options);
+      const std::string dir     = std::filesystem::path(options.file).parent_path().string();
+      auto              problem = std::make_unique<RotorProblem>(comm, log);
+      try
         {
-          ParameterHandler prm;
-          parse_file(prm, options.file);
-          apply_sets(prm, options.sets);
-          apply_sets(prm,
-                     {{"Speeds/Mode", "list"},
-                      {"Speeds/List", list},
-                      {"Output/Write ParaView files", "false"},
-                      {"Eigenproblem/Write mode shapes", "false"},
-                      {"Output/Pictures", "false"},
-                      {"Mesh refinement/Cycles", "0"}},
-                     false);
-          RotorProblem cycle(comm, log);
-          cycle.parse_parameters(prm,
-                                 dir.empty() ? "." : dir,
-                                 main.output_directory() + "/cycle_" + std::to_string(c));
-          cycle.prepare_output(prm);
-          cycle.start_refinement_cycle(refinement);
-          log << "Mesh refinement: cycle " << c << " of " << r.cycles() << " at " << list
-              << " r/min, results in " << cycle.output_directory() << '\n';
-          cycle.setup();
-          code = run_sweep(cycle, comm, log);
-          if (code != exit_code::success)
-            return refinement;
-          if (r.dof_target() > 0 && cycle.n_dofs() >= r.dof_target())
-            {
-              log << "Mesh refinement: " << cycle.n_dofs() << " DOFs reach the DOF target "
-                  << r.dof_target() << "; no further cycle.\n";
-              break;
-            }
-          refinement = cycle.refine();
+          problem->parse_parameters(prm, dir.empty() ? "." : dir, options.output_override);
         }
-      return refinement;
+      catch (const ExceptionBase &e)
+        {
+          // a value deal.II's pattern passed and its conversion refused
+          // (in a .json file, say): the input's fault, not the solver's
+          throw InputError(options.file +
+                           (options.sets.empty() ? "" : " (with its --set overrides)") + ": " +
+                           message_of(e));
+        }
+      return problem;
     }
 
     /// Validate or run one case; every way out is an exit code, and once the
@@ -339,21 +275,7 @@ namespace rotorfit
       try
         {
           ParameterHandler prm;
-          parse_file(prm, file);
-          apply_sets(prm, options.sets);
-          const std::string dir = std::filesystem::path(file).parent_path().string();
-          problem = std::make_unique<RotorProblem>(comm, log);
-          try
-            {
-              problem->parse_parameters(prm, dir.empty() ? "." : dir, options.output_override);
-            }
-          catch (const ExceptionBase &e)
-            {
-              // a value deal.II's pattern passed and its conversion refused
-              // (in a .json file, say): the input's fault, not the solver's
-              throw InputError(file + (options.sets.empty() ? "" : " (with its --set overrides)") +
-                               ": " + message_of(e));
-            }
+          problem = open_case(prm, options, comm, log);
           problem->check_output();
           if (!validate)
             {
@@ -364,11 +286,11 @@ namespace rotorfit
               << ROTORFIT_BUILD_TYPE << "), deal.II " << DEAL_II_PACKAGE_VERSION << ", "
               << Utilities::MPI::n_mpi_processes(comm) << " MPI rank(s)\n"
               << "Case: " << file << '\n';
-          if (!validate && problem->mesh_refinement().cycles() > 0)
+          if (!validate)
             {
-              int        code       = exit_code::success;
-              const auto refinement = refine_mesh(options, *problem, comm, log, code);
-              problem->use_refinement(refinement);
+              // the cycles read the case again, as it was read here
+              const int code = problem->refine_mesh(
+                [&](ParameterHandler &cycle_prm) { read_case(cycle_prm, options); });
               if (code != exit_code::success)
                 return stop(code == exit_code::interrupted ? "interrupted" : "failed",
                             code,
@@ -381,7 +303,7 @@ namespace rotorfit
               log << file << ": valid.\n";
               return exit_code::success;
             }
-          return run_sweep(*problem, comm, log);
+          return problem->run_and_finish();
         }
       catch (const InputError &e)
         {

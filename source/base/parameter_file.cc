@@ -117,28 +117,174 @@ namespace rotorfit
     return locations.file.empty() ? "" : locations.file + ": ";
   }
 
+  namespace
+  {
+    /// The bytes of @p filename, a UTF-8 byte order mark dropped.
+    std::string
+    load_text(const std::string &filename)
+    {
+      if (!std::filesystem::exists(filename))
+        throw InputError("the parameter file '" + filename + "' does not exist.");
+      if (!std::filesystem::is_regular_file(filename))
+        throw InputError("the parameter file '" + filename +
+                         "' is not a regular file (a directory?); give the .prm or .json file.");
+      std::ifstream in(filename, std::ios::binary);
+      if (!in)
+        throw InputError("the parameter file '" + filename + "' cannot be read.");
+      std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      if (text.compare(0, 3, "\xEF\xBB\xBF") == 0)
+        text.erase(0, 3);
+      return text;
+    }
+
+    /// Whether @p statement starts with deal.II's keyword @p lower (or in
+    /// upper case), followed by a blank or nothing.
+    bool
+    starts_with_keyword(const std::string &statement,
+                        const std::string &lower,
+                        const std::string &upper)
+    {
+      const std::size_t n = lower.size();
+      return (statement.compare(0, n, lower) == 0 || statement.compare(0, n, upper) == 0) &&
+             (statement.size() == n || statement[n] == ' ' || statement[n] == '\t');
+    }
+
+    /// The file an 'include' names, trimmed ("" if the statement is none).
+    std::string
+    included_name(const std::string &statement)
+    {
+      if (!starts_with_keyword(statement, "include", "INCLUDE"))
+        return "";
+      return trim(statement.substr(7));
+    }
+
+    /**
+     * An 'include' of @p including_file at @p at ("FILE:LINE: ") made
+     * relative to the including file: deal.II opens the name it is given
+     * relative to the working directory. The included file is opened by
+     * deal.II itself, so an 'include' in it with a relative name would
+     * resolve against the working directory again: refused.
+     */
+    std::string
+    resolve_include(const std::string &name,
+                    const std::string &including_file,
+                    const std::string &at)
+    {
+      namespace fs         = std::filesystem;
+      const fs::path given = name;
+      const fs::path here  = fs::path(including_file).parent_path();
+      const std::string path =
+        given.is_absolute() ? name : (here / given).lexically_normal().string();
+      if (!fs::is_regular_file(path))
+        throw InputError(at + "'include " + name + "': '" + path +
+                         "' is no readable file (an include is read relative to the file "
+                         "that includes it).");
+      std::istringstream lines(load_text(path));
+      std::string        line;
+      for (unsigned int number = 1; std::getline(lines, line); ++number)
+        {
+          const std::string nested = included_name(trim(line.substr(0, line.find('#'))));
+          if (!nested.empty() && !fs::path(nested).is_absolute())
+            throw InputError(path + ":" + std::to_string(number) + ": 'include " + nested +
+                             "' inside an included file is not supported with a relative "
+                             "name; include it from '" + including_file +
+                             "' or give an absolute path.");
+        }
+      return path;
+    }
+
+    /// A control byte (tabs aside) ends deal.II's message at a NUL, or hides
+    /// in a name: refused with the line shown escaped.
+    void
+    check_control_bytes(const std::string &statement,
+                        const std::string &at,
+                        const std::string &shown)
+    {
+      for (const char c : statement)
+        if ((static_cast<unsigned char>(c) < 0x20 && c != '\t') || c == 0x7f)
+          throw InputError(at + shown + " holds the control byte " +
+                           printable(std::string(1, c)) + (c == 0 ? " (NUL)" : "") +
+                           "; a parameter file is plain text (a file saved as UTF-16 has "
+                           "a NUL byte after every letter: save it as UTF-8).");
+    }
+
+    /**
+     * The checks of read_parameter_file(), one logical line (continuation
+     * lines joined) at a time: the subsection path, entries set twice, and
+     * where each entry is set.
+     */
+    class Scanner
+    {
+    public:
+      explicit Scanner(const std::string &filename)
+        : filename(filename)
+      {}
+
+      /// Check @p statement (comment removed) starting on line @p start;
+      /// returns the line deal.II should read instead of an 'include', or "".
+      std::string
+      scan(const std::string &statement, const unsigned int start)
+      {
+        const std::string at = filename + ":" + std::to_string(start) + ": ";
+        std::string       where;
+        for (const auto &p : path)
+          where += p + "/";
+        const bool set = starts_with_keyword(statement, "set", "SET") && statement.size() > 3;
+        const auto eq  = statement.find('=');
+        const auto end = eq == std::string::npos ? std::string::npos : eq - 3;
+        const std::string name  = set ? normalise(statement.substr(3, end)) : "";
+        const std::string value =
+          set && eq != std::string::npos ? trim(statement.substr(eq + 1)) : "";
+        check_control_bytes(statement,
+                            at,
+                            set ? "'" + where + name + "' = '" + value + "'" :
+                                  "'" + statement + "'");
+        if (starts_with_keyword(statement, "subsection", "SUBSECTION"))
+          path.push_back(normalise(statement.substr(10)));
+        else if ((statement == "end" || statement == "END") && !path.empty())
+          path.pop_back();
+        else if (set)
+          record_set(where + name, value, start, at);
+        else if (const std::string included = included_name(statement); !included.empty())
+          return "include " + resolve_include(included, filename, at);
+        return "";
+      }
+
+    private:
+      void
+      record_set(const std::string  &entry,
+                 const std::string  &value,
+                 const unsigned int  start,
+                 const std::string  &at)
+      {
+        const auto [it, inserted] = first_line.emplace(entry, start);
+        if (!inserted)
+          throw InputError(at + "'" + entry + "' is set again (first set on line " +
+                           std::to_string(it->second) + "); keep one of the two lines.");
+        // deal.II's patterns pass 1e-310, its conversion then fails
+        // without naming the entry
+        const std::string problem = unrepresentable_number(value);
+        if (!problem.empty())
+          throw InputError(at + entry + " = " + value + ": " + problem);
+        locations.where[entry] = at;
+      }
+
+      const std::string                   filename;
+      std::vector<std::string>            path;
+      std::map<std::string, unsigned int> first_line;
+    };
+  } // namespace
+
   std::string
   read_parameter_file(const std::string &filename)
   {
-    if (!std::filesystem::exists(filename))
-      throw InputError("the parameter file '" + filename + "' does not exist.");
-    if (!std::filesystem::is_regular_file(filename))
-      throw InputError("the parameter file '" + filename +
-                       "' is not a regular file (a directory?); give the .prm or .json file.");
-    std::ifstream in(filename, std::ios::binary);
-    if (!in)
-      throw InputError("the parameter file '" + filename + "' cannot be read.");
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (text.compare(0, 3, "\xEF\xBB\xBF") == 0)
-      text.erase(0, 3);
+    const std::string text = load_text(filename);
     record_file(filename);
-
-    // duplicate 'set' lines per subsection path (continuation lines joined)
-    std::istringstream                 lines(text);
-    std::string                        line, logical;
-    std::vector<std::string>           path;
-    std::map<std::string, unsigned int> first_line;
-    unsigned int                       number = 0, start = 0;
+    Scanner            scanner(filename);
+    std::istringstream lines(text);
+    std::string        line, logical, result;
+    unsigned int       number = 0, start = 0;
+    bool               rewritten = false;
     while (std::getline(lines, line))
       {
         ++number;
@@ -148,57 +294,19 @@ namespace rotorfit
         if (!t.empty() && t.back() == '\\')
           {
             logical += t.substr(0, t.size() - 1) + " ";
+            result += line + "\n";
             continue;
           }
         logical += t;
-        std::string statement = trim(logical.substr(0, logical.find('#')));
+        const std::string replacement =
+          scanner.scan(trim(logical.substr(0, logical.find('#'))), start);
         logical.clear();
-        const std::string at = filename + ":" + std::to_string(start) + ": ";
-        std::string where;
-        for (const auto &p : path)
-          where += p + "/";
-        // deal.II's keywords, in lower or upper case
-        const auto keyword = [&](const std::string &lower, const std::string &upper) {
-          const std::size_t n = lower.size();
-          return (statement.compare(0, n, lower) == 0 || statement.compare(0, n, upper) == 0) &&
-                 (statement.size() == n || statement[n] == ' ' || statement[n] == '\t');
-        };
-        const bool set = keyword("set", "SET") && statement.size() > 3;
-        const auto eq  = statement.find('=');
-        const std::string name =
-          set ? normalise(statement.substr(3, eq == std::string::npos ? std::string::npos : eq - 3)) :
-                "";
-        const std::string value = set && eq != std::string::npos ? trim(statement.substr(eq + 1)) : "";
-        // a control byte (tabs aside) ends deal.II's message at a NUL, or
-        // hides in a name: refused with the line shown escaped
-        for (const char c : statement)
-          if ((static_cast<unsigned char>(c) < 0x20 && c != '\t') || c == 0x7f)
-            throw InputError(at + (set ? "'" + where + name + "' = '" + value + "'" :
-                                         "'" + statement + "'") +
-                             " holds the control byte " + printable(std::string(1, c)) +
-                             (c == 0 ? " (NUL)" : "") +
-                             "; a parameter file is plain text (a file saved as UTF-16 has "
-                             "a NUL byte after every letter: save it as UTF-8).");
-        if (keyword("subsection", "SUBSECTION"))
-          path.push_back(normalise(statement.substr(10)));
-        else if ((statement == "end" || statement == "END") && !path.empty())
-          path.pop_back();
-        else if (set)
-          {
-            const auto [it, inserted] = first_line.emplace(where + name, start);
-            if (!inserted)
-              throw InputError(filename + ":" + std::to_string(start) + ": '" + where +
-                               name + "' is set again (first set on line " +
-                               std::to_string(it->second) +
-                               "); keep one of the two lines.");
-            // deal.II's patterns pass 1e-310, its conversion then fails
-            // without naming the entry
-            const std::string problem = unrepresentable_number(value);
-            if (!problem.empty())
-              throw InputError(at + where + name + " = " + value + ": " + problem);
-            locations.where[where + name] = at;
-          }
+        if (!replacement.empty() && start != number)
+          throw InputError(filename + ":" + std::to_string(start) +
+                           ": an 'include' continued over lines; write it on one line.");
+        rewritten |= !replacement.empty();
+        result += (replacement.empty() ? line : replacement) + "\n";
       }
-    return text;
+    return rewritten ? result : text;
   }
 } // namespace rotorfit

@@ -1,5 +1,6 @@
 #include <rotorfit/eigen/block_lanczos.h>
 #include <rotorfit/eigen/damped_eigensolver.h>
+#include <rotorfit/linear_algebra/replicated_blocks.h>
 
 #include <AnasaziBasicEigenproblem.hpp>
 #include <AnasaziBlockKrylovSchurSolMgr.hpp>
@@ -111,6 +112,49 @@ namespace rotorfit
       const Epetra_Map                       &map;
       BlockLanczosStatistics                 *statistics;
     };
+
+    /// The start block: @p block columns of uniform random entries in
+    /// [-1, 1], the same on every rank (a fixed seed).
+    Teuchos::RCP<Epetra_MultiVector>
+    random_start(const Epetra_Map &map, const std::size_t n, const unsigned int block)
+    {
+      auto                                   start = Teuchos::rcp(new Epetra_MultiVector(map, block));
+      std::mt19937                           random(12345);
+      std::uniform_real_distribution<double> uniform(-1, 1);
+      for (unsigned int j = 0; j < block; ++j)
+        for (std::size_t i = 0; i < n; ++i)
+          (*start)[j][i] = uniform(random);
+      return start;
+    }
+
+    /// Anasazi's converged pairs into @p theta (descending) and @p z.
+    void
+    take_solution(const Anasazi::Eigensolution<double, Epetra_MultiVector> &solution,
+                  const std::size_t                                          n,
+                  std::vector<double>                                       &theta,
+                  std::vector<Vector<double>>                               &z)
+    {
+      // (numVecs, Evals, index and Evecs agree in Anasazi; taken at their least)
+      std::size_t count = std::max(solution.numVecs, 0);
+      count = std::min({count, solution.Evals.size(), solution.index.size(),
+                        solution.Evecs.is_null() ? std::size_t(0) :
+                                                   static_cast<std::size_t>(solution.Evecs->NumVectors())});
+      std::vector<std::size_t> order(count);
+      std::iota(order.begin(), order.end(), 0);
+      std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return solution.Evals[a].realpart > solution.Evals[b].realpart;
+      });
+      for (const auto k : order)
+        {
+          // a Hermitian problem has real eigenvalues (index 0: a real vector
+          // in column k); anything else is a fault, left out
+          if (solution.index[k] != 0)
+            continue;
+          theta.push_back(solution.Evals[k].realpart);
+          z.emplace_back(n);
+          std::copy((*solution.Evecs)[k], (*solution.Evecs)[k] + n, z.back().begin());
+        }
+    }
   } // namespace
 
   void
@@ -135,12 +179,7 @@ namespace rotorfit
     // the same start block and the same gathered products keep them equal
     const Epetra_SerialComm comm;
     const Epetra_Map        map(static_cast<int>(n), 0, comm);
-    auto                    start = Teuchos::rcp(new MV(map, block));
-    std::mt19937            random(12345);
-    std::uniform_real_distribution<double> uniform(-1, 1);
-    for (unsigned int j = 0; j < block; ++j)
-      for (std::size_t i = 0; i < n; ++i)
-        (*start)[j][i] = uniform(random);
+    const auto              start = random_start(map, n, block);
     auto op   = Teuchos::rcp(new ReplicatedOperator(M, &S_inverse, map, &statistics));
     auto mass = Teuchos::rcp(new ReplicatedOperator(M, nullptr, map, &statistics));
     auto problem = Teuchos::rcp(new Anasazi::BasicEigenproblem<double, MV, OP>(op, mass, start));
@@ -174,26 +213,6 @@ namespace rotorfit
         statistics.failure = e.what();
         return;
       }
-    const auto &solution = problem->getSolution();
-    // (numVecs, Evals, index and Evecs agree in Anasazi; taken at their least)
-    std::size_t count = std::max(solution.numVecs, 0);
-    count = std::min({count, solution.Evals.size(), solution.index.size(),
-                      solution.Evecs.is_null() ? std::size_t(0) :
-                                                 static_cast<std::size_t>(solution.Evecs->NumVectors())});
-    std::vector<std::size_t> order(count);
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-      return solution.Evals[a].realpart > solution.Evals[b].realpart;
-    });
-    for (const auto k : order)
-      {
-        // a Hermitian problem has real eigenvalues (index 0: a real vector
-        // in column k); anything else is a fault, left out
-        if (solution.index[k] != 0)
-          continue;
-        theta.push_back(solution.Evals[k].realpart);
-        z.emplace_back(n);
-        std::copy((*solution.Evecs)[k], (*solution.Evecs)[k] + n, z.back().begin());
-      }
+    take_solution(problem->getSolution(), n, theta, z);
   }
 } // namespace rotorfit

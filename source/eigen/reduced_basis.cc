@@ -1,6 +1,7 @@
 #include <rotorfit/linear_algebra/blas.h>
 #include <rotorfit/base/patterns.h>
 #include <rotorfit/eigen/reduced_basis.h>
+#include <rotorfit/linear_algebra/replicated_blocks.h>
 
 #include <deal.II/base/mpi.h>
 

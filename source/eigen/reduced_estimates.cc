@@ -1,4 +1,5 @@
 #include <rotorfit/eigen/reduced_estimates.h>
+#include <rotorfit/linear_algebra/replicated_blocks.h>
 
 #include <deal.II/base/mpi.h>
 

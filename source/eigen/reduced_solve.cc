@@ -1,4 +1,5 @@
 #include <rotorfit/eigen/reduced_solve.h>
+#include <rotorfit/linear_algebra/replicated_blocks.h>
 #include <rotorfit/statics/speed_schedule.h>
 
 #include <deal.II/base/mpi.h>

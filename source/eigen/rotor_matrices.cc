@@ -126,6 +126,83 @@ namespace rotorfit
     assemble_stress_stiffness(dof_handler, mapping, quadrature, bodies, {&u}, {&k_sigma});
   }
 
+  namespace
+  {
+    /// A vector element's shape functions by their scalar functions:
+    /// K_sigma couples a component only with itself, through the same
+    /// scalar block sigma grad N_a . grad N_b, so the block is computed once
+    /// per scalar pair (a ninth of the work) and copied to the components.
+    struct ScalarFunctions
+    {
+      explicit ScalarFunctions(const FiniteElement<3> &fe)
+        : comp(fe.n_dofs_per_cell())
+        , base(fe.n_dofs_per_cell())
+      {
+        const unsigned int n = fe.n_dofs_per_cell();
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            comp[i]  = fe.system_to_component_index(i).first;
+            base[i]  = fe.system_to_component_index(i).second;
+            n_scalar = std::max(n_scalar, base[i] + 1);
+          }
+        scalar_dof.resize(n_scalar);
+        for (unsigned int i = 0; i < n; ++i)
+          if (comp[i] == 0)
+            scalar_dof[base[i]] = i;
+      }
+
+      /// component and scalar function of each shape function
+      std::vector<unsigned int> comp, base;
+      unsigned int              n_scalar = 0;
+      /// one vector DoF per scalar function
+      std::vector<unsigned int> scalar_dof;
+    };
+
+    /// The scalar block of K_sigma on the current cell from the strain of
+    /// the static displacement at its quadrature points, less K_theta's
+    /// where @p minus_convective (@p block zeroed first; @p grad and
+    /// @p d_theta: work arrays of one entry per scalar function).
+    void
+    stress_block(const FEValues<3>                         &fe_values,
+                 const Body                                &body,
+                 const std::vector<SymmetricTensor<2, 3>> &strain,
+                 const bool                                 minus_convective,
+                 const ScalarFunctions                     &scalar,
+                 std::vector<Tensor<1, 3>>                 &grad,
+                 std::vector<double>                       &d_theta,
+                 FullMatrix<double>                        &block)
+    {
+      const unsigned int n_scalar = scalar.n_scalar;
+      block                       = 0;
+      for (unsigned int q = 0; q < strain.size(); ++q)
+        {
+          // pre-stress at the quadrature point (no projection, doc/theory.md 3)
+          const SymmetricTensor<2, 3> sigma =
+            body.lambda() * trace(strain[q]) * unit_symmetric_tensor<3>() + 2 * body.mu() * strain[q];
+          const double JxW = fe_values.JxW(q);
+          for (unsigned int a = 0; a < n_scalar; ++a)
+            grad[a] = fe_values.shape_grad(scalar.scalar_dof[a], q);
+          for (unsigned int a = 0; a < n_scalar; ++a)
+            {
+              const Tensor<1, 3> s_grad = sigma * grad[a];
+              for (unsigned int b = 0; b < n_scalar; ++b)
+                block(a, b) += (s_grad * grad[b]) * JxW;
+            }
+          if (minus_convective)
+            {
+              // - K_theta: rho (d_theta N_a)(d_theta N_b), d_theta = (e_z x x) . grad
+              const Point<3>    &x = fe_values.quadrature_point(q);
+              const Tensor<1, 3> t({-x[1], x[0], 0.});
+              for (unsigned int a = 0; a < n_scalar; ++a)
+                d_theta[a] = grad[a] * t;
+              for (unsigned int a = 0; a < n_scalar; ++a)
+                for (unsigned int b = 0; b < n_scalar; ++b)
+                  block(a, b) -= body.density * d_theta[a] * d_theta[b] * JxW;
+            }
+        }
+    }
+  } // namespace
+
   void
   RotorMatrices::assemble_stress_stiffness(
     const DoFHandler<3>                                   &dof_handler,
@@ -152,26 +229,12 @@ namespace rotorfit
                           update_gradients | update_JxW_values | update_quadrature_points);
     const FEValuesExtractors::Vector disp(0);
     const unsigned int               n = fe.n_dofs_per_cell();
-    // K_sigma couples a component only with itself, through the same
-    // scalar block sigma grad N_a . grad N_b: the block is computed once
-    // per scalar pair (a ninth of the work) and copied to the components
-    std::vector<unsigned int> comp(n), base(n);
-    unsigned int              n_scalar = 0;
-    for (unsigned int i = 0; i < n; ++i)
-      {
-        comp[i]  = fe.system_to_component_index(i).first;
-        base[i]  = fe.system_to_component_index(i).second;
-        n_scalar = std::max(n_scalar, base[i] + 1);
-      }
-    std::vector<unsigned int> scalar_dof(n_scalar); // one vector DoF per scalar function
-    for (unsigned int i = 0; i < n; ++i)
-      if (comp[i] == 0)
-        scalar_dof[base[i]] = i;
-    FullMatrix<double>                   cell_s(n, n), block(n_scalar, n_scalar);
+    const ScalarFunctions            scalar(fe);
+    FullMatrix<double>                   cell_s(n, n), block(scalar.n_scalar, scalar.n_scalar);
     std::vector<types::global_dof_index> dofs(n);
     std::vector<SymmetricTensor<2, 3>>   strain(quadrature.size()), strain_minus(quadrature.size());
-    std::vector<Tensor<1, 3>>            grad(n_scalar);
-    std::vector<double>                  d_theta(n_scalar);
+    std::vector<Tensor<1, 3>>            grad(scalar.n_scalar);
+    std::vector<double>                  d_theta(scalar.n_scalar);
 
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
@@ -188,37 +251,13 @@ namespace rotorfit
                   for (unsigned int q = 0; q < quadrature.size(); ++q)
                     strain[q] -= strain_minus[q];
                 }
-              block = 0;
-              for (unsigned int q = 0; q < quadrature.size(); ++q)
-                {
-                  // pre-stress at the quadrature point (no projection, doc/theory.md 3)
-                  const SymmetricTensor<2, 3> sigma =
-                    body.lambda() * trace(strain[q]) * unit_symmetric_tensor<3>() +
-                    2 * body.mu() * strain[q];
-                  const double JxW = fe_values.JxW(q);
-                  for (unsigned int a = 0; a < n_scalar; ++a)
-                    grad[a] = fe_values.shape_grad(scalar_dof[a], q);
-                  for (unsigned int a = 0; a < n_scalar; ++a)
-                    {
-                      const Tensor<1, 3> s_grad = sigma * grad[a];
-                      for (unsigned int b = 0; b < n_scalar; ++b)
-                        block(a, b) += (s_grad * grad[b]) * JxW;
-                    }
-                  if (k < minus_convective.size() && minus_convective[k])
-                    {
-                      // - K_theta: rho (d_theta N_a)(d_theta N_b), d_theta = (e_z x x) . grad
-                      const Point<3>    &x = fe_values.quadrature_point(q);
-                      const Tensor<1, 3> t({-x[1], x[0], 0.});
-                      for (unsigned int a = 0; a < n_scalar; ++a)
-                        d_theta[a] = grad[a] * t;
-                      for (unsigned int a = 0; a < n_scalar; ++a)
-                        for (unsigned int b = 0; b < n_scalar; ++b)
-                          block(a, b) -= body.density * d_theta[a] * d_theta[b] * JxW;
-                    }
-                }
+              stress_block(fe_values, body, strain,
+                           k < minus_convective.size() && minus_convective[k], scalar, grad,
+                           d_theta, block);
               for (unsigned int i = 0; i < n; ++i)
                 for (unsigned int j = 0; j < n; ++j)
-                  cell_s(i, j) = comp[i] == comp[j] ? block(base[i], base[j]) : 0.;
+                  cell_s(i, j) =
+                    scalar.comp[i] == scalar.comp[j] ? block(scalar.base[i], scalar.base[j]) : 0.;
               k_sigma[k]->add(dofs, cell_s);
             }
         }

@@ -1,4 +1,5 @@
 #include <rotorfit/eigen/damped_eigensolver.h>
+#include <rotorfit/linear_algebra/replicated_blocks.h>
 #include <rotorfit/eigen/speed_tangent.h>
 #include <rotorfit/linear_algebra/matrix_pattern.h>
 #include <rotorfit/statics/speed_schedule.h>

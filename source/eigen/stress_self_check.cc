@@ -1,4 +1,5 @@
 #include <rotorfit/eigen/damped_eigensolver.h>
+#include <rotorfit/linear_algebra/replicated_vectors.h>
 #include <rotorfit/eigen/stress_self_check.h>
 
 #include <deal.II/base/point.h>

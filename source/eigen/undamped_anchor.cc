@@ -1,4 +1,5 @@
 #include <rotorfit/eigen/undamped_anchor.h>
+#include <rotorfit/linear_algebra/replicated_blocks.h>
 #include <rotorfit/statics/speed_schedule.h>
 
 #include <algorithm>

@@ -110,27 +110,41 @@ namespace rotorfit
     PetscObjectState pattern = 0;
     check(MatGetNonzeroState(A, &pattern), "MatGetNonzeroState");
     if (ksp != nullptr && A == analysed_matrix && type == analysed_type &&
-        pattern == analysed_pattern)
+        pattern == analysed_pattern && refactorize_on_analysis(A))
+      return;
+    analyse_and_factorize(A, comm);
+    analysed_matrix  = A;
+    analysed_type    = type;
+    analysed_pattern = pattern;
+  }
+
+  bool
+  DirectSolver::refactorize_on_analysis(const Mat A)
+  {
+    // new values on the same pattern: PETSc's PCSetUp sees the same
+    // nonzero state and runs MUMPS's numeric phase alone. A failure
+    // (delayed pivots beyond the analysis's workspace) starts afresh.
+    // PETSc refactorises only where the matrix's state moved since the
+    // last set-up, and sums made on its local blocks (add_subset) do not
+    // move it: the caller asks for a factorisation, so one is made
+    PetscObjectStateIncrease(reinterpret_cast<PetscObject>(A));
+    check(KSPSetOperators(ksp, A, A), "KSPSetOperators");
+    check(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr), "PetscPushErrorHandler");
+    const PetscErrorCode code = KSPSetUp(ksp);
+    PetscPopErrorHandler();
+    if (code == 0)
       {
-        // new values on the same pattern: PETSc's PCSetUp sees the same
-        // nonzero state and runs MUMPS's numeric phase alone. A failure
-        // (delayed pivots beyond the analysis's workspace) starts afresh.
-        // PETSc refactorises only where the matrix's state moved since the
-        // last set-up, and sums made on its local blocks (add_subset) do not
-        // move it: the caller asks for a factorisation, so one is made
-        PetscObjectStateIncrease(reinterpret_cast<PetscObject>(A));
-        check(KSPSetOperators(ksp, A, A), "KSPSetOperators");
-        check(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr), "PetscPushErrorHandler");
-        const PetscErrorCode code = KSPSetUp(ksp);
-        PetscPopErrorHandler();
-        if (code == 0)
-          {
-            ++factorizations;
-            ++reused_analyses;
-            return;
-          }
-        ++workspace_retries;
+        ++factorizations;
+        ++reused_analyses;
+        return true;
       }
+    ++workspace_retries;
+    return false;
+  }
+
+  void
+  DirectSolver::analyse_and_factorize(const Mat A, const MPI_Comm comm)
+  {
     // MUMPS sizes its workspace from the analysis plus ICNTL(14) percent;
     // delayed pivots of LDL^T can exceed it (INFOG(1) = -8, -9: seen on TS
     // with 2 ranks). Such a failure is retried with more room, any other
@@ -171,9 +185,6 @@ namespace rotorfit
                                "). If INFOG(1) = -10 the matrix is singular: is every "
                                "body held? If it is -13, memory ran out.");
     ++factorizations;
-    analysed_matrix  = A;
-    analysed_type    = type;
-    analysed_pattern = pattern;
   }
 
   void
@@ -223,18 +234,29 @@ namespace rotorfit
     if (ksp == nullptr)
       throw std::logic_error("DirectSolver::update() before factorize()");
     ++operators;
-    const auto owned = [this](const PetscInt row) {
-      return row >= row_begin && row < row_begin + local_rows;
-    };
+    std::vector<UpdateColumn> order;
+    const std::size_t         retained = keep_update_columns(columns, order);
+    update_columns.clear();
+    back_substitute_update(order, retained);
+    if (order.empty())
+      {
+        std::vector<double>().swap(update_z);
+        return true;
+      }
+    return factorize_capacitance(std::move(order));
+  }
+
+  std::size_t
+  DirectSolver::keep_update_columns(const std::vector<UpdateColumn> &columns,
+                                    std::vector<UpdateColumn>       &order)
+  {
     const std::size_t rows = local_rows;
     // Z = A^-1 U: the columns of the last update still wanted move to the
-    // front (in place), the new ones are back-substituted behind them, 32
-    // at a time (Z's storage grows once, to the new size)
+    // front (in place), the new ones go behind them
     std::map<unsigned int, std::size_t> had;
     for (std::size_t j = 0; j < update_columns.size(); ++j)
       had[update_columns[j].key] = j;
-    std::vector<UpdateColumn> order;
-    std::vector<std::size_t>  from;
+    std::vector<std::size_t> from;
     for (const auto &u : columns)
       if (had.count(u.key))
         order.push_back(u), from.push_back(had[u.key]);
@@ -256,7 +278,16 @@ namespace rotorfit
     for (const auto &u : columns)
       if (!had.count(u.key))
         order.push_back(u);
-    update_columns.clear();
+    return retained;
+  }
+
+  void
+  DirectSolver::back_substitute_update(const std::vector<UpdateColumn> &order,
+                                       const std::size_t                retained)
+  {
+    // the new columns of Z after the @p retained ones, 32 at a time (Z's
+    // storage grows once, to the new size)
+    const std::size_t rows = local_rows;
     update_z.resize(retained * rows);
     update_z.reserve(order.size() * rows);
     constexpr PetscInt chunk = 32;
@@ -275,7 +306,7 @@ namespace rotorfit
         std::fill(a, a + std::size_t(ld) * m, 0.);
         for (PetscInt j = 0; j < m; ++j)
           for (const auto &[row, value] : order[first + j].entries)
-            if (owned(row))
+            if (owns(row))
               a[row - row_begin + std::size_t(j) * ld] += value;
         check(MatDenseRestoreArray(B, &a), "MatDenseRestoreArray");
         check(MatAssemblyBegin(B, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
@@ -290,17 +321,18 @@ namespace rotorfit
         MatDestroy(&B);
         MatDestroy(&X);
       }
-    const int c = order.size();
-    if (c == 0)
-      {
-        std::vector<double>().swap(update_z);
-        return true;
-      }
+  }
+
+  bool
+  DirectSolver::factorize_capacitance(std::vector<UpdateColumn> &&order)
+  {
+    const std::size_t rows = local_rows;
+    const int         c    = order.size();
     // diag(1/s) + U^T Z
     std::vector<double> F(std::size_t(c) * c, 0.);
     for (int i = 0; i < c; ++i)
       for (const auto &[row, value] : order[i].entries)
-        if (owned(row))
+        if (owns(row))
           for (int j = 0; j < c; ++j)
             F[i + std::size_t(j) * c] += value * update_z[row - row_begin + std::size_t(j) * rows];
     MPI_Allreduce(MPI_IN_PLACE, F.data(), F.size(), MPI_DOUBLE, MPI_SUM, comm);
@@ -348,7 +380,7 @@ namespace rotorfit
     std::vector<double> y(std::size_t(c) * k, 0.);
     for (int i = 0; i < c; ++i)
       for (const auto &[row, value] : update_columns[i].entries)
-        if (row >= row_begin && row < row_begin + local_rows)
+        if (owns(row))
           for (PetscInt j = 0; j < k; ++j)
             y[i + std::size_t(j) * c] += value * x[row - row_begin + std::size_t(j) * lda];
     MPI_Allreduce(MPI_IN_PLACE, y.data(), y.size(), MPI_DOUBLE, MPI_SUM, comm);

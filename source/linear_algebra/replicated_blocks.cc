@@ -1,5 +1,5 @@
-#include <rotorfit/eigen/damped_eigensolver.h>
 #include <rotorfit/linear_algebra/blas.h>
+#include <rotorfit/linear_algebra/replicated_blocks.h>
 
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
@@ -238,118 +238,251 @@ namespace rotorfit
     }
   } // namespace
 
+  namespace
+  {
+    /// The columns of the blocks P_1 .. P_b in one numbering: block k holds
+    /// columns first[k] .. first[k + 1] - 1.
+    struct ColumnNumbering
+    {
+      explicit ColumnNumbering(const std::vector<const RowBlock *> &blocks)
+      {
+        for (const auto *P : blocks)
+          first.push_back(first.back() + P->n_columns());
+      }
+
+      /// all columns
+      int
+      size() const
+      {
+        return first.back();
+      }
+
+      /// the block of column @p j
+      std::ptrdiff_t
+      block_of(const int j) const
+      {
+        return std::upper_bound(first.begin(), first.end(), j) - first.begin() - 1;
+      }
+
+      std::vector<int> first{0};
+    };
+
+    /// replicated_inverse_gram(): blocks of right-hand sides (a block's
+    /// back-substitution costs about a sixth of as many single ones on
+    /// TS), each multiplied by every block. A chunk holds columns of either
+    /// kind: those of a block kept by its rows go to MUMPS as sparse
+    /// right-hand sides on one rank (no n-long copies), else expanded to n
+    /// a few at a time.
+    class InverseGram
+    {
+    public:
+      InverseGram(const DirectSolver                     &solver,
+                  const PETScWrappers::MPI::SparseMatrix &layout,
+                  const std::vector<const RowBlock *>    &blocks,
+                  const GramShortcut                     *shortcut);
+
+      /// G, the same on every rank
+      std::vector<double>
+      compute();
+
+    private:
+      /// the columns of the chunk from @p start: of one kind, and sparse
+      /// ones of one block
+      int
+      chunk_size(const int start) const;
+      /// A^-1 of the chunk's sparse columns into X (one rank), or the
+      /// columns expanded to n for solve_columns()
+      void
+      prepare_sparse(const int start, const int c);
+      /// column @p j (full length) of the chunk from @p start
+      const double *
+      column(const int start, const int j) const;
+      /// X = A^-1 of the chunk's columns @p solved (chunk positions)
+      void
+      solve(const int start, const std::vector<int> &solved);
+      /// the shortcut's source columns kept, its target columns made
+      void
+      apply_shortcut(const int start, const std::vector<int> &solved, const std::vector<int> &known);
+      /// G's columns start .. start + c - 1: every block's P_k^T X
+      void
+      multiply(const int start, const int c);
+
+      bool
+      sparse(const int j) const
+      {
+        return !blocks[numbering.block_of(j)]->dense();
+      }
+
+      const DirectSolver                     &solver;
+      const PETScWrappers::MPI::SparseMatrix &layout;
+      const std::vector<const RowBlock *>    &blocks;
+      const GramShortcut                     *shortcut;
+      const ColumnNumbering                   numbering;
+      const int                               n, b;
+      const bool                              one_rank;
+      const int                               sparse_chunk;
+      bool                                    use_shortcut;
+      std::vector<double>                     G, X, expanded, rows_of_x;
+      std::vector<double>                     kept_source; // A^-1 P_source, for the target's columns
+      static constexpr int                    chunk = 32;
+    };
+
+    InverseGram::InverseGram(const DirectSolver                     &solver,
+                             const PETScWrappers::MPI::SparseMatrix &layout,
+                             const std::vector<const RowBlock *>    &blocks,
+                             const GramShortcut                     *shortcut)
+      : solver(solver)
+      , layout(layout)
+      , blocks(blocks)
+      , shortcut(shortcut)
+      , numbering(blocks)
+      , n(layout.m())
+      , b(numbering.size())
+      , one_rank(Utilities::MPI::n_mpi_processes(layout.get_mpi_communicator()) == 1)
+      , sparse_chunk(one_rank ? chunk : 8)
+      , G(std::size_t(b) * b, 0.)
+    {
+      const auto &first = numbering.first;
+      use_shortcut      = shortcut && shortcut->source < shortcut->target &&
+                     shortcut->target < blocks.size() &&
+                     first[shortcut->source + 1] - first[shortcut->source] ==
+                       first[shortcut->target + 1] - first[shortcut->target] &&
+                     blocks[shortcut->target]->dense() &&
+                     shortcut->base->size() == blocks[shortcut->target]->data().size();
+      if (use_shortcut)
+        kept_source.resize(std::size_t(n) *
+                           (first[shortcut->source + 1] - first[shortcut->source]));
+    }
+
+    std::vector<double>
+    InverseGram::compute()
+    {
+      for (int start = 0, c = 0; start < b; start += c)
+        {
+          c = chunk_size(start);
+          X.resize(std::size_t(n) * c);
+          prepare_sparse(start, c);
+          std::vector<int> solved, known;
+          for (int j = 0; j < c; ++j)
+            (use_shortcut && std::size_t(numbering.block_of(start + j)) == shortcut->target ?
+               known :
+               solved)
+              .push_back(j);
+          if (!(sparse(start) && one_rank))
+            solve(start, solved);
+          apply_shortcut(start, solved, known);
+          multiply(start, c);
+        }
+      // every rank takes the same decisions from it
+      MPI_Bcast(G.data(), G.size(), MPI_DOUBLE, 0, layout.get_mpi_communicator());
+      return std::move(G);
+    }
+
+    int
+    InverseGram::chunk_size(const int start) const
+    {
+      int c = std::min(chunk, b - start);
+      if (sparse(start))
+        c = std::min({sparse_chunk, c, numbering.first[numbering.block_of(start) + 1] - start});
+      else
+        for (int j = start + 1; j < start + c; ++j)
+          if (sparse(j))
+            return j - start;
+      return c;
+    }
+
+    void
+    InverseGram::prepare_sparse(const int start, const int c)
+    {
+      if (!sparse(start))
+        return;
+      const auto k = numbering.block_of(start);
+      if (one_rank)
+        solve_kept_rows(solver, layout.get_mpi_communicator(), *blocks[k],
+                        start - numbering.first[k], c, X.data());
+      else
+        {
+          expanded.resize(std::size_t(n) * c);
+          for (int j = 0; j < c; ++j)
+            blocks[k]->expand_column(start + j - numbering.first[k],
+                                     expanded.data() + std::size_t(j) * n);
+        }
+    }
+
+    const double *
+    InverseGram::column(const int start, const int j) const
+    {
+      const auto k = numbering.block_of(j);
+      return sparse(j) ? expanded.data() + std::size_t(j - start) * n :
+                         blocks[k]->data().data() + std::size_t(j - numbering.first[k]) * n;
+    }
+
+    void
+    InverseGram::solve(const int start, const std::vector<int> &solved)
+    {
+      solve_columns(
+        solver, layout, solved.size(),
+        [&](const PetscInt i) { return column(start, start + solved[i]); },
+        [&](const PetscInt i) { return X.data() + std::size_t(solved[i]) * n; });
+    }
+
+    void
+    InverseGram::apply_shortcut(const int               start,
+                                const std::vector<int> &solved,
+                                const std::vector<int> &known)
+    {
+      if (!use_shortcut)
+        return;
+      // (the source columns of this chunk first: they may be needed in it)
+      const auto &first = numbering.first;
+      for (const int j : solved)
+        if (std::size_t(numbering.block_of(start + j)) == shortcut->source)
+          std::copy(X.begin() + std::size_t(j) * n, X.begin() + std::size_t(j + 1) * n,
+                    kept_source.begin() + std::size_t(start + j - first[shortcut->source]) * n);
+      for (const int j : known)
+        {
+          const std::size_t i    = start + j - first[shortcut->target];
+          const double     *base = shortcut->base->data() + i * n,
+                       *source     = kept_source.data() + i * n;
+          double *x                = X.data() + std::size_t(j) * n;
+          for (int r = 0; r < n; ++r)
+            x[r] = base[r] + shortcut->factor * source[r];
+        }
+    }
+
+    void
+    InverseGram::multiply(const int start, const int c)
+    {
+      const auto  &first = numbering.first;
+      const double one = 1, zero = 0;
+      for (std::size_t k = 0; k < blocks.size(); ++k)
+        {
+          const int columns = first[k + 1] - first[k], r = blocks[k]->n_rows();
+          if (columns == 0)
+            continue;
+          blocks[k]->gather(X.data(), c, rows_of_x);
+          dgemm_("T", "N", &columns, &c, &r, &one, blocks[k]->data().data(), &r,
+                 blocks[k]->dense() ? X.data() : rows_of_x.data(), &r, &zero,
+                 G.data() + first[k] + std::size_t(start) * b, &b);
+        }
+    }
+  } // namespace
+
   std::vector<double>
   replicated_inverse_gram(const DirectSolver                     &solver,
                           const PETScWrappers::MPI::SparseMatrix &layout,
                           const std::vector<const RowBlock *>    &blocks,
                           const GramShortcut                     *shortcut)
   {
-    // the columns of all blocks in one numbering: block k holds columns
-    // first[k] .. first[k + 1] - 1
-    const int           n = layout.m();
-    std::vector<int>    first{0};
-    for (const auto *P : blocks)
-      first.push_back(first.back() + P->n_columns());
-    const int           b = first.back();
-    std::vector<double> G(std::size_t(b) * b, 0.), X, expanded, rows_of_x;
-    const auto block_of = [&](const int j) {
-      return std::upper_bound(first.begin(), first.end(), j) - first.begin() - 1;
-    };
-    const auto sparse = [&](const int j) { return !blocks[block_of(j)]->dense(); };
-    const bool use_shortcut = shortcut && shortcut->source < shortcut->target &&
-                              shortcut->target < blocks.size() &&
-                              first[shortcut->source + 1] - first[shortcut->source] ==
-                                first[shortcut->target + 1] - first[shortcut->target] &&
-                              blocks[shortcut->target]->dense() &&
-                              shortcut->base->size() == blocks[shortcut->target]->data().size();
-    std::vector<double> kept_source; // A^-1 P_source, for the target's columns
-    if (use_shortcut)
-      kept_source.resize(std::size_t(n) * (first[shortcut->source + 1] - first[shortcut->source]));
-    // blocks of right-hand sides (a block's back-substitution costs about a
-    // sixth of as many single ones on TS), each multiplied by every block.
-    // A chunk holds columns of either kind: those of a block kept by its
-    // rows go to MUMPS as sparse right-hand sides on one rank (no n-long
-    // copies), else expanded to n a few at a time
-    const bool    one_rank = Utilities::MPI::n_mpi_processes(layout.get_mpi_communicator()) == 1;
-    constexpr int chunk = 32;
-    const int     sparse_chunk = one_rank ? chunk : 8;
-    for (int start = 0, c = 0; start < b; start += c)
-      {
-        c = std::min(chunk, b - start);
-        if (sparse(start))
-          c = std::min({sparse_chunk, c, first[block_of(start) + 1] - start});
-        else
-          for (int j = start + 1; j < start + c; ++j)
-            if (sparse(j))
-              {
-                c = j - start;
-                break;
-              }
-        X.resize(std::size_t(n) * c);
-        if (sparse(start) && one_rank)
-          solve_kept_rows(solver, layout.get_mpi_communicator(), *blocks[block_of(start)],
-                          start - first[block_of(start)], c, X.data());
-        else if (sparse(start))
-          {
-            const auto k = block_of(start);
-            expanded.resize(std::size_t(n) * c);
-            for (int j = 0; j < c; ++j)
-              blocks[k]->expand_column(start + j - first[k], expanded.data() + std::size_t(j) * n);
-          }
-        const auto column = [&](const int j) {
-          const auto k = block_of(j);
-          return sparse(j) ? expanded.data() + std::size_t(j - start) * n :
-                             blocks[k]->data().data() + std::size_t(j - first[k]) * n;
-        };
-        std::vector<int> solved, known;
-        for (int j = 0; j < c; ++j)
-          (use_shortcut && std::size_t(block_of(start + j)) == shortcut->target ? known : solved)
-            .push_back(j);
-        if (!(sparse(start) && one_rank))
-          solve_columns(
-            solver, layout, solved.size(),
-            [&](const PetscInt i) { return column(start + solved[i]); },
-            [&](const PetscInt i) { return X.data() + std::size_t(solved[i]) * n; });
-        // (the source columns of this chunk first: they may be needed in it)
-        if (use_shortcut)
-          for (const int j : solved)
-            if (std::size_t(block_of(start + j)) == shortcut->source)
-              std::copy(X.begin() + std::size_t(j) * n, X.begin() + std::size_t(j + 1) * n,
-                        kept_source.begin() +
-                          std::size_t(start + j - first[shortcut->source]) * n);
-        for (const int j : known)
-          {
-            const std::size_t i = start + j - first[shortcut->target];
-            const double     *base = shortcut->base->data() + i * n,
-                         *source = kept_source.data() + i * n;
-            double *x = X.data() + std::size_t(j) * n;
-            for (int r = 0; r < n; ++r)
-              x[r] = base[r] + shortcut->factor * source[r];
-          }
-        const double one = 1, zero = 0;
-        for (std::size_t k = 0; k < blocks.size(); ++k)
-          {
-            const int columns = first[k + 1] - first[k], r = blocks[k]->n_rows();
-            if (columns == 0)
-              continue;
-            blocks[k]->gather(X.data(), c, rows_of_x);
-            dgemm_("T", "N", &columns, &c, &r, &one, blocks[k]->data().data(), &r,
-                   blocks[k]->dense() ? X.data() : rows_of_x.data(), &r, &zero,
-                   G.data() + first[k] + std::size_t(start) * b, &b);
-          }
-      }
-    // every rank takes the same decisions from it
-    MPI_Bcast(G.data(), G.size(), MPI_DOUBLE, 0, layout.get_mpi_communicator());
-    return G;
+    return InverseGram(solver, layout, blocks, shortcut).compute();
   }
 
   std::vector<double>
   replicated_gram(const std::vector<const RowBlock *> &blocks, const MPI_Comm comm)
   {
-    std::vector<int> first{0};
-    for (const auto *P : blocks)
-      first.push_back(first.back() + P->n_columns());
-    const int           b = first.back();
+    const ColumnNumbering numbering(blocks);
+    const auto           &first = numbering.first;
+    const int             b     = numbering.size();
     std::vector<double> G(std::size_t(b) * b, 0.), rows_of_other;
     const double        one = 1, zero = 0;
     for (std::size_t k = 0; k < blocks.size(); ++k)

@@ -2,6 +2,7 @@
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/base/resources.h>
 #include <rotorfit/mesh/assembly_mesh.h>
+#include <rotorfit/mesh/gmsh_mesher.h>
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/quadrature_lib.h>
@@ -147,182 +148,6 @@ namespace rotorfit
     prm.leave_subsection();
   }
 
-  namespace
-  {
-    // gmsh throws from inside its OpenMP regions on some bad input (a mesh
-    // size of zero or less), where no catch can reach it and the runtime
-    // calls std::terminate: this handler turns the abort into an input
-    // error. std::set_terminate takes no context, hence the file-scope text.
-    std::string gmsh_context;
-
-    [[noreturn]] void
-    gmsh_aborted()
-    {
-      std::string what = "no message";
-      if (const std::exception_ptr e = std::current_exception())
-        try
-          {
-            std::rethrow_exception(e);
-          }
-        catch (const std::string &s)
-          {
-            what = s;
-          }
-        catch (const std::exception &x)
-          {
-            what = x.what();
-          }
-        catch (...)
-          {
-          }
-      std::fprintf(stderr,
-                   "rotorfit: error: %s: gmsh stopped while meshing (%s); a mesh size of zero "
-                   "or less, or a geometry gmsh cannot mesh, does this: check the parameters.\n",
-                   gmsh_context.c_str(), printable(what).c_str());
-      std::_Exit(1);
-    }
-  } // namespace
-
-  AssemblyMesh::GmshData
-  AssemblyMesh::run_gmsh() const
-  {
-    GmshData data;
-    gmsh_context = "Geometry/Geometry file '" + geometry_filename + "'";
-    if (!geometry_parameters.empty())
-      {
-        std::ostringstream list;
-        for (const auto &[name, value] : geometry_parameters)
-          list << (list.tellp() > 0 ? ", " : "") << name << ": " << value;
-        gmsh_context += " with Geometry/Geometry parameters '" + list.str() + "'";
-      }
-    struct TerminateGuard // the handler only while gmsh runs
-    {
-      std::terminate_handler previous = std::set_terminate(gmsh_aborted);
-      ~TerminateGuard() { std::set_terminate(previous); }
-    } guard;
-    gmsh::initialize();
-    gmsh::option::setNumber("General.Terminal", 0);
-    gmsh::option::setNumber("General.Verbosity", 2);
-    try
-      {
-        open_and_mesh();
-        read_physical_groups(data);
-        data.nodes_per_tet = 10;
-        data.nodes_per_tri = 6;
-      }
-    catch (const InputError &)
-      {
-        gmsh::finalize();
-        throw;
-      }
-    catch (const std::exception &e)
-      {
-        gmsh::finalize();
-        throw InputError("Geometry/Geometry file '" + geometry_filename +
-                         "': gmsh failed: " + e.what());
-      }
-    catch (...)
-      {
-        gmsh::finalize();
-        throw InputError("Geometry/Geometry file '" + geometry_filename +
-                         "': gmsh failed; run 'gmsh -3 " + geometry_filename +
-                         "' to see its messages.");
-      }
-    gmsh::finalize();
-    if (data.volumes.empty())
-      throw InputError("Geometry/Geometry file '" + geometry_filename +
-                       "' has no meshed physical volumes; declare one "
-                       "Physical Volume per body.");
-    return data;
-  }
-
-  void
-  AssemblyMesh::open_and_mesh() const
-  {
-    std::string file = geometry_filename;
-    std::filesystem::path scratch;
-    const bool  is_geo =
-      std::filesystem::path(file).extension().string() == ".geo";
-    if (is_geo && !geometry_parameters.empty())
-      {
-        // The .geo's DefineConstant keeps values defined before it. The
-        // wrapper goes to a private temporary file (--validate writes
-        // nothing into the case's directories).
-        scratch = std::filesystem::temp_directory_path() /
-                  ("rotorfit-" + std::to_string(::getpid()) + ".geo");
-        file = scratch.string();
-        std::ofstream out(file);
-        out.precision(17);
-        for (const auto &[name, value] : geometry_parameters)
-          out << name << " = " << value << ";\n";
-        out << "Include \""
-            << std::filesystem::absolute(geometry_filename).string()
-            << "\";\n";
-      }
-    gmsh::open(file);
-    if (!scratch.empty())
-      std::filesystem::remove(scratch);
-    if (is_geo)
-      {
-        check_volume_mesh_size(false); // before a huge surface mesh too
-        gmsh::model::mesh::generate(2);
-        check_volume_mesh_size(true);
-        gmsh::model::mesh::generate(3);
-      }
-    // quadratic geometry always: gmsh puts mid-edge nodes on the CAD
-    gmsh::model::mesh::setOrder(2);
-  }
-
-  void
-  AssemblyMesh::read_physical_groups(GmshData &data) const
-  {
-    std::vector<double> parametric;
-    gmsh::model::mesh::getNodes(data.node_tags,
-                                data.node_coords,
-                                parametric,
-                                -1,
-                                -1,
-                                false,
-                                false);
-
-    gmsh::vectorpair groups;
-    gmsh::model::getPhysicalGroups(groups);
-    for (const auto &[dim, tag] : groups)
-      {
-        if (dim != 2 && dim != 3)
-          continue;
-        std::string name;
-        gmsh::model::getPhysicalName(dim, tag, name);
-        if (name.empty())
-          name = std::to_string(tag);
-        std::vector<int> entities;
-        gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities);
-        auto &list = (dim == 3 ? data.volumes[name] : data.surfaces[name]);
-        for (const int e : entities)
-          {
-            std::vector<int>                      types;
-            std::vector<std::vector<std::size_t>> element_tags, nodes;
-            gmsh::model::mesh::getElements(
-              types, element_tags, nodes, dim, e);
-            for (unsigned int t = 0; t < types.size(); ++t)
-              {
-                const int expected = (dim == 3 ? 11 : 9); // tet10, tri6
-                if (types[t] != expected)
-                  throw InputError(
-                    "Geometry/Geometry file '" + geometry_filename +
-                    "': physical " +
-                    std::string(dim == 3 ? "volume" : "surface") + " '" +
-                    name +
-                    "' holds elements other than tetrahedra/triangles "
-                    "(gmsh type " +
-                    std::to_string(types[t]) +
-                    "); rotorfit reads simplex meshes.");
-                list.insert(list.end(), nodes[t].begin(), nodes[t].end());
-              }
-          }
-      }
-  }
-
   void
   AssemblyMesh::create(const std::vector<std::string> &body_volumes)
   {
@@ -333,13 +158,13 @@ namespace rotorfit
       }
     // mesh on rank 0 only, then broadcast: gmsh is serial and every rank
     // must see exactly the same mesh
-    GmshData    data;
+    GmshMesh    data;
     std::string error;
     if (Utilities::MPI::this_mpi_process(comm) == 0)
       {
         try
           {
-            data = run_gmsh();
+            data = GmshMesher(geometry_filename, geometry_parameters, memory_limit).run();
           }
         catch (const InputError &e)
           {
@@ -376,7 +201,7 @@ namespace rotorfit
   }
 
   AssemblyMesh::BodyCells
-  AssemblyMesh::body_cells(GmshData &data, const std::vector<std::string> &body_volumes) const
+  AssemblyMesh::body_cells(GmshMesh &data, const std::vector<std::string> &body_volumes) const
   {
     std::map<std::size_t, Point<3>> node_position;
     for (unsigned int i = 0; i < data.node_tags.size(); ++i)
@@ -454,7 +279,7 @@ namespace rotorfit
   }
 
   void
-  AssemblyMesh::collect_surfaces(const GmshData &data, const BodyCells &body)
+  AssemblyMesh::collect_surfaces(const GmshMesh &data, const BodyCells &body)
   {
     const auto &body_vertex = body.body_vertex;
     surfaces.clear();
@@ -550,7 +375,7 @@ namespace rotorfit
     const double cells = section_mesh.n_cells();
     const double dofs  = cells * 3 * (order == 2 ? 8 : 1);
     const double bytes = resources::factorization_bytes(dofs, false);
-    const double limit = resources::physical_memory_bytes();
+    const double limit = memory_limit;
     if (bytes > 0.9 * limit)
       {
         std::ostringstream m;

@@ -1,5 +1,6 @@
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/base/patterns.h>
+#include <rotorfit/mesh/section_hexahedra.h>
 #include <rotorfit/mesh/section_mesh.h>
 
 #include <deal.II/base/utilities.h>
@@ -21,48 +22,22 @@ namespace rotorfit
 
   namespace
   {
-    /// Sizes grow away from a fit by this much per unit distance.
-    constexpr double grading = 0.5;
-
-    /// Nodes on [0, length] whose spacing follows @p size (a function of
-    /// the position): n = round(integral of 1/size) cells.
-    template <typename SizeFunction>
-    std::vector<double>
-    graded_nodes(const double length, const SizeFunction &size)
+    std::string
+    side_name(const SectionMesh::Side s)
     {
-      constexpr unsigned int samples = 400;
-      std::vector<double>    cumulative(samples + 1, 0.);
-      for (unsigned int i = 0; i < samples; ++i)
-        cumulative[i + 1] =
-          cumulative[i] + length / samples / size((i + 0.5) * length / samples);
-      const unsigned int  n = std::max(1., std::round(cumulative.back()));
-      std::vector<double> nodes{0.};
-      unsigned int        i = 0;
-      for (unsigned int k = 1; k < n; ++k)
+      switch (s)
         {
-          const double target = cumulative.back() * k / n;
-          while (cumulative[i + 1] < target)
-            ++i;
-          const double t = (target - cumulative[i]) / (cumulative[i + 1] - cumulative[i]);
-          nodes.push_back((i + t) * length / samples);
+          case SectionMesh::Side::outer:
+            return "outer";
+          case SectionMesh::Side::inner:
+            return "inner";
+          case SectionMesh::Side::start:
+            return "start";
+          default:
+            return "end";
         }
-      nodes.push_back(length);
-      return nodes;
     }
-
   } // namespace
-
-  double
-  SectionMesh::Section::ri(const double z) const
-  {
-    return ri0 + (z - z0) / (z1 - z0) * (ri1 - ri0);
-  }
-
-  double
-  SectionMesh::Section::ro(const double z) const
-  {
-    return ro0 + (z - z0) / (z1 - z0) * (ro1 - ro0);
-  }
 
   void
   SectionMesh::declare_parameters(ParameterHandler &prm)
@@ -300,252 +275,11 @@ namespace rotorfit
   }
 
   double
-  SectionMesh::size_at(const double d_fit) const
-  {
-    return std::min(h_max, h_fit + grading * d_fit);
-  }
-
-  const SectionMesh::Section &
-  SectionMesh::section_at(const unsigned int body, const double z) const
-  {
-    for (const auto &s : sections[body])
-      if (z <= s.z1)
-        return s;
-    return sections[body].back();
-  }
-
-  double
-  SectionMesh::inner_radius(const Chain &c, const Section &s, const double z) const
-  {
-    // the section's own radius: at a plane two sections share, section_at
-    // could return the neighbour's
-    return c.solid ? core_radius[c.body] : s.ri(z);
-  }
-
-  void
-  SectionMesh::find_fits(std::vector<std::pair<double, double>> &zones) const
-  {
-    double scale = 0;
-    for (const auto &list : sections)
-      for (const auto &s : list)
-        scale = std::max({scale, std::abs(s.z0), std::abs(s.z1), s.ro0, s.ro1});
-    const double tol = 1e-9 * scale;
-    zones.clear();
-    for (unsigned int b = 0; b < sections.size(); ++b)
-      for (unsigned int c = 0; c < sections.size(); ++c)
-        if (b != c)
-          for (const auto &s : sections[b])
-            for (const auto &t : sections[c])
-              {
-                const double zl = std::max(s.z0, t.z0), zr = std::min(s.z1, t.z1);
-                if (zr - zl <= tol)
-                  continue;
-                for (const double z : {zl, 0.5 * (zl + zr), zr})
-                  if (std::max(s.ri(z), t.ri(z)) < std::min(s.ro(z), t.ro(z)) - tol)
-                    {
-                      std::ostringstream m;
-                      m << "Bodies " << body_names[b] << " and " << body_names[c]
-                        << " overlap at z = " << z << " m (radii " << s.ri(z) << " .. "
-                        << s.ro(z) << " and " << t.ri(z) << " .. " << t.ro(z)
-                        << " m); check their Sections (a fit is meshed at one nominal "
-                           "radius; the interference is set in its Interface).";
-                      throw InputError(m.str());
-                    }
-                if (std::abs(s.ro(zl) - t.ri(zl)) < tol && std::abs(s.ro(zr) - t.ri(zr)) < tol)
-                  zones.emplace_back(zl, zr);
-              }
-  }
-
-  std::vector<double>
-  SectionMesh::axial_nodes(const std::vector<std::pair<double, double>> &zones) const
-  {
-    std::vector<double> breaks;
-    for (const auto &list : sections)
-      for (const auto &s : list)
-        breaks.insert(breaks.end(), {s.z0, s.z1});
-    std::sort(breaks.begin(), breaks.end());
-    const double tol = 1e-9 * std::max(std::abs(breaks.front()), std::abs(breaks.back()));
-    breaks.erase(std::unique(breaks.begin(),
-                             breaks.end(),
-                             [tol](double a, double b) { return b - a <= tol; }),
-                 breaks.end());
-    const auto size = [&](const double z) {
-      double d = std::numeric_limits<double>::max();
-      for (const auto &[a, b] : zones)
-        d = std::min(d, std::max({0., a - z, z - b}));
-      return zones.empty() ? h_max : size_at(d);
-    };
-    std::vector<double> z{breaks.front()};
-    for (unsigned int i = 0; i + 1 < breaks.size(); ++i)
-      {
-        const double a     = breaks[i];
-        const auto   nodes = graded_nodes(breaks[i + 1] - a, [&](double x) { return size(a + x); });
-        for (unsigned int k = 1; k < nodes.size(); ++k)
-          z.push_back(k + 1 == nodes.size() ? breaks[i + 1] : a + nodes[k]);
-      }
-    z.insert(z.end(), refinement.z.begin(), refinement.z.end());
-    std::sort(z.begin(), z.end());
-    z.erase(std::unique(z.begin(), z.end(), [tol](double a, double b) { return b - a <= tol; }),
-            z.end());
-    return z;
-  }
-
-  std::vector<SectionMesh::Chain>
-  SectionMesh::make_chains() const
-  {
-    std::vector<std::pair<double, double>> zones;
-    find_fits(zones);
-    std::vector<Chain> chains;
-    for (unsigned int b = 0; b < sections.size(); ++b)
-      for (unsigned int k = 0; k < sections[b].size(); ++k)
-        {
-          const auto &s = sections[b][k];
-          const double tol = 1e-9 * std::max(s.ro0, s.ro1);
-          if (k == 0 || chains.back().solid != s.solid() ||
-              std::abs(sections[b][k - 1].ri1 - s.ri0) > tol ||
-              std::abs(sections[b][k - 1].ro1 - s.ro0) > tol)
-            chains.push_back({b, k, k, s.solid(), false, false, {}});
-          chains.back().last = k;
-        }
-    // which chains' outer or inner boundary is a fit somewhere
-    for (auto &c : chains)
-      for (unsigned int k = c.first; k <= c.last; ++k)
-        {
-          const auto &s = sections[c.body][k];
-          for (unsigned int o = 0; o < sections.size(); ++o)
-            if (o != c.body)
-              for (const auto &t : sections[o])
-                {
-                  const double zl = std::max(s.z0, t.z0), zr = std::min(s.z1, t.z1);
-                  const double tol = 1e-9 * std::max(s.ro0, s.ro1);
-                  if (zr - zl <= tol)
-                    continue;
-                  if (std::abs(s.ro(zl) - t.ri(zl)) < tol && std::abs(s.ro(zr) - t.ri(zr)) < tol)
-                    c.outer_fit = true;
-                  if (std::abs(s.ri(zl) - t.ro(zl)) < tol && std::abs(s.ri(zr) - t.ro(zr)) < tol)
-                    c.inner_fit = true;
-                }
-        }
-    radial_fractions(chains);
-    return chains;
-  }
-
-  void
-  SectionMesh::radial_fractions(std::vector<Chain> &chains) const
-  {
-    // base: graded towards the chain's fit boundaries, at its thickest end
-    for (auto &c : chains)
-      {
-        double t = 0;
-        for (unsigned int k = c.first; k <= c.last; ++k)
-          {
-            const auto &s = sections[c.body][k];
-            t = std::max({t, s.ro0 - inner_radius(c, s, s.z0), s.ro1 - inner_radius(c, s, s.z1)});
-          }
-        const auto size = [&](const double d) {
-          double d_fit = std::numeric_limits<double>::max();
-          if (c.outer_fit)
-            d_fit = std::min(d_fit, t - d);
-          if (c.inner_fit)
-            d_fit = std::min(d_fit, d);
-          return (c.outer_fit || c.inner_fit) ? size_at(d_fit) : h_max;
-        };
-        for (const double d : graded_nodes(t, size))
-          c.fractions.push_back(d / t);
-        const auto it = refinement.fractions.find({c.body, c.first});
-        if (it != refinement.fractions.end())
-          c.added = it->second;
-      }
-
-    merge_step_radii(chains);
-  }
-
-  void
-  SectionMesh::merge_step_radii(std::vector<Chain> &chains) const
-  {
-    // steps: the wider chain takes the narrower one's radii at the plane
-    // they share, so the vertices there coincide. Narrower chains first.
-    std::vector<int> needs(chains.size(), -1); // chain i needs chain needs[i]'s radii
-    std::vector<std::vector<unsigned int>> requires_of(chains.size());
-    for (unsigned int i = 0; i + 1 < chains.size(); ++i)
-      {
-        auto &a = chains[i], &b = chains[i + 1];
-        if (a.body != b.body)
-          continue;
-        const double z   = sections[a.body][a.last].z1;
-        const auto  &sA  = sections[a.body][a.last];
-        const auto  &sB  = sections[b.body][b.first];
-        const double aA  = inner_radius(a, sA, z), oA = sA.ro1;
-        const double aB  = inner_radius(b, sB, z), oB = sB.ro0;
-        const double tol = 1e-9 * std::max(oA, oB);
-        if (aA <= aB + tol && oA >= oB - tol)
-          requires_of[i].push_back(i + 1);
-        else if (aB <= aA + tol && oB >= oA - tol)
-          requires_of[i + 1].push_back(i);
-        else
-          {
-            std::ostringstream m;
-            m << "Body " << body_names[a.body] << "/Sections: at z = " << z
-              << " m the radial range " << aA << " .. " << oA << " m meets " << aB << " .. "
-              << oB << " m and neither contains the other; the section mesher needs one "
-                       "side of a step to contain the other. Split the body into two "
-                       "bodies or add a short transition section.";
-            throw InputError(m.str());
-          }
-      }
-    std::vector<bool> done(chains.size(), false);
-    for (unsigned int pass = 0; pass < chains.size(); ++pass)
-      for (unsigned int i = 0; i < chains.size(); ++i)
-        {
-          if (done[i] || !std::all_of(requires_of[i].begin(),
-                                      requires_of[i].end(),
-                                      [&](unsigned int j) { return done[j]; }))
-            continue;
-          auto               &c = chains[i];
-          std::vector<double> required{0., 1.}; // the ends and the steps' radii
-          for (const unsigned int j : requires_of[i])
-            {
-              const auto  &o = chains[j];
-              const double z = (j > i ? sections[c.body][c.last].z1 : sections[c.body][c.first].z0);
-              const auto  &sc = sections[c.body][j > i ? c.last : c.first];
-              const double a = inner_radius(c, sc, z), t = sc.ro(z) - a;
-              const auto  &so = sections[o.body][j > i ? o.first : o.last];
-              const double ao = inner_radius(o, so, z), oo = so.ro(z);
-              for (const double s : o.fractions)
-                required.push_back(((1 - s) * ao + s * oo - a) / t);
-            }
-          std::sort(required.begin(), required.end());
-          const double spacing = 1. / std::max<std::size_t>(1, c.fractions.size() - 1);
-          std::vector<double> merged = required;
-          merged.insert(merged.end(), c.added.begin(), c.added.end());
-          for (const double s : c.fractions)
-            {
-              const auto   it = std::lower_bound(required.begin(), required.end(), s);
-              double       d  = std::numeric_limits<double>::max();
-              if (it != required.end())
-                d = *it - s;
-              if (it != required.begin())
-                d = std::min(d, s - *(it - 1));
-              if (d > 0.4 * spacing)
-                merged.push_back(s);
-            }
-          std::sort(merged.begin(), merged.end());
-          merged.erase(std::unique(merged.begin(),
-                                   merged.end(),
-                                   [](double x, double y) { return y - x < 1e-12; }),
-                       merged.end());
-          c.fractions = merged;
-          done[i]     = true;
-        }
-  }
-
-  double
   SectionMesh::n_cells() const
   {
-    std::vector<std::pair<double, double>> zones;
-    find_fits(zones);
-    const auto   z      = axial_nodes(zones);
-    const auto   chains = make_chains();
+    const SectionLayout layout = plan();
+    const auto         &z      = layout.axial_nodes();
+    const auto         &chains = layout.chains();
     const double k      = n_theta / 4;
     double       n      = 0;
     for (unsigned int l = 0; l + 1 < z.size(); ++l)
@@ -561,10 +295,10 @@ namespace rotorfit
   std::string
   SectionMesh::describe() const
   {
-    std::vector<std::pair<double, double>> zones;
-    find_fits(zones);
-    const auto         z      = axial_nodes(zones);
-    const auto         chains = make_chains();
+    const SectionLayout layout = plan();
+    const auto         &zones  = layout.fit_zones();
+    const auto         &z      = layout.axial_nodes();
+    const auto         &chains = layout.chains();
     std::ostringstream s;
     s << std::setprecision(3) << "Section mesh: " << n_theta << " cells around, "
       << z.size() - 1 << " axial layers, element size " << h_max * 1e3 << " mm, "
@@ -581,4 +315,167 @@ namespace rotorfit
       }
     return s.str();
   }
+  SectionLayout
+  SectionMesh::plan() const
+  {
+    return SectionLayout(sections, core_radius, body_names, h_fit, h_max, refinement);
+  }
+
+  void
+  SectionMesh::create(Triangulation<3>                                   &tria,
+                      std::map<types::boundary_id, std::set<std::string>> &names) const
+  {
+    const SectionLayout layout = plan();
+    SectionHexahedra(layout, n_theta).create(tria);
+    name_boundaries(tria, names);
+  }
+
+  std::optional<SectionMesh::Side>
+  SectionMesh::face_side(const Triangulation<3>::face_iterator &face,
+                         const unsigned int                     b,
+                         double                                &zm) const
+  {
+    double z_lo = std::numeric_limits<double>::max(), z_hi = -z_lo, r = 0;
+    for (const unsigned int v : face->vertex_indices())
+      {
+        z_lo = std::min(z_lo, face->vertex(v)[2]);
+        z_hi = std::max(z_hi, face->vertex(v)[2]);
+        r += std::hypot(face->vertex(v)[0], face->vertex(v)[1]) / 4;
+      }
+    zm               = 0.5 * (z_lo + z_hi);
+    const double tol = 1e-9 * std::max(1., std::abs(zm));
+    if (z_hi - z_lo <= tol) // an axial face: an end of the body, or a step (unnamed)
+      {
+        if (std::abs(zm - sections[b].front().z0) <= tol)
+          return Side::start;
+        if (std::abs(zm - sections[b].back().z1) <= tol)
+          return Side::end;
+        return std::nullopt;
+      }
+    const AxialSection &s = section_at(sections[b], zm);
+    return std::abs(r - s.ro(zm)) < std::abs(r - s.ri(zm)) ? Side::outer : Side::inner;
+  }
+
+  void
+  SectionMesh::name_boundaries(Triangulation<3>                                   &tria,
+                               std::map<types::boundary_id, std::set<std::string>> &names) const
+  {
+    // boundary ids: one per distinct set of surface names
+    std::map<std::set<std::string>, types::boundary_id> id_of{{{}, 0}};
+    std::map<std::pair<std::string, unsigned int>, unsigned int> faces_of; // (surface, selector)
+    for (const auto &cell : tria.active_cell_iterators())
+      for (const unsigned int f : cell->face_indices())
+        if (cell->face(f)->at_boundary())
+          {
+            const auto   face = cell->face(f);
+            const auto   b    = cell->material_id();
+            double       zm   = 0;
+            const auto   side = face_side(face, b, zm);
+            const double tol  = 1e-9 * std::max(1., std::abs(zm));
+            std::set<std::string> set;
+            for (const auto &[name, selectors] : surfaces)
+              for (unsigned int i = 0; i < selectors.size(); ++i)
+                {
+                  const auto &sel = selectors[i];
+                  if (side && sel.body == b && sel.side == *side && zm >= sel.z_from - tol &&
+                      zm <= sel.z_to + tol)
+                    {
+                      set.insert(name);
+                      ++faces_of[{name, i}];
+                    }
+                }
+            const auto it = id_of.emplace(set, id_of.size()).first;
+            face->set_boundary_id(it->second);
+          }
+    names.clear();
+    for (const auto &[set, id] : id_of)
+      names[id] = set;
+    for (const auto &[name, selectors] : surfaces)
+      for (unsigned int i = 0; i < selectors.size(); ++i)
+        if (faces_of[{name, i}] == 0)
+          {
+            const auto        &sel = selectors[i];
+            std::ostringstream m;
+            m << "Geometry/Sections/Surfaces: the selector '" << body_names[sel.body] << " "
+              << side_name(sel.side);
+            if (sel.z_from > -std::numeric_limits<double>::max())
+              m << " " << sel.z_from << " " << sel.z_to;
+            m << "' of surface '" << name
+              << "' selects no boundary face; check the side and the axial range against "
+                 "the body's Sections (a body's start and end are its lowest and highest z).";
+            throw InputError(m.str());
+          }
+  }
+
+  SectionMesh::Refinement
+  SectionMesh::refined(const Triangulation<3> &tria,
+                       const Vector<float>    &indicator,
+                       const double            fraction) const
+  {
+    const SectionLayout layout = plan();
+    const auto         &z      = layout.axial_nodes();
+    const auto         &chains = layout.chains();
+
+    // sums of indicator^2 over each axial layer and each radial interval
+    std::vector<double>              layer(z.size() - 1, 0.);
+    std::vector<std::vector<double>> interval(chains.size());
+    for (unsigned int i = 0; i < chains.size(); ++i)
+      interval[i].assign(chains[i].fractions.size() - 1, 0.);
+    for (const auto &cell : tria.active_cell_iterators())
+      {
+        const double   eta2 = std::pow(indicator[cell->active_cell_index()], 2);
+        const Point<3> x    = cell->center();
+        const auto     l    = std::upper_bound(z.begin(), z.end(), x[2]) - z.begin() - 1;
+        layer[std::clamp<long>(l, 0, layer.size() - 1)] += eta2;
+        const unsigned int b = cell->material_id();
+        for (unsigned int i = 0; i < chains.size(); ++i)
+          {
+            const auto &c = chains[i];
+            if (c.body != b || !(x[2] > sections[b][c.first].z0 && x[2] < sections[b][c.last].z1))
+              continue;
+            const AxialSection &s = section_at(sections[b], x[2]);
+            const double        a = layout.inner_radius(c, s, x[2]);
+            const double   f = (std::hypot(x[0], x[1]) - a) / (s.ro(x[2]) - a);
+            if (f < 0) // the O-grid core: refined by the circumferential cells only
+              break;
+            const auto j = std::upper_bound(c.fractions.begin(), c.fractions.end(), f) -
+                           c.fractions.begin() - 1;
+            interval[i][std::clamp<long>(j, 0, interval[i].size() - 1)] += eta2;
+            break;
+          }
+      }
+
+    // split the largest share of each kind in the middle
+    Refinement next = refinement;
+    const auto top  = [fraction](const std::vector<double> &v) {
+      std::vector<unsigned int> order(v.size());
+      for (unsigned int i = 0; i < v.size(); ++i)
+        order[i] = i;
+      std::sort(order.begin(), order.end(), [&](unsigned a, unsigned b) { return v[a] > v[b]; });
+      order.resize(std::min<std::size_t>(v.size(), std::max(1., std::round(fraction * v.size()))));
+      return order;
+    };
+    for (const unsigned int l : top(layer))
+      next.z.push_back(0.5 * (z[l] + z[l + 1]));
+    next.layers_split = std::max(1., std::round(fraction * layer.size()));
+    std::vector<double>                                      flat;
+    std::vector<std::pair<unsigned int, unsigned int>>       where;
+    for (unsigned int i = 0; i < chains.size(); ++i)
+      for (unsigned int j = 0; j < interval[i].size(); ++j)
+        {
+          flat.push_back(interval[i][j]);
+          where.emplace_back(i, j);
+        }
+    const auto marked    = top(flat);
+    next.intervals_split = marked.size();
+    for (const unsigned int k : marked)
+      {
+        const auto &[i, j] = where[k];
+        const auto &c      = chains[i];
+        next.fractions[{c.body, c.first}].push_back(0.5 * (c.fractions[j] + c.fractions[j + 1]));
+      }
+    next.layers_split = top(layer).size();
+    return next;
+  }
+
 } // namespace rotorfit

@@ -1,4 +1,6 @@
 #include <rotorfit/base/input_error.h>
+#include <rotorfit/base/patterns.h>
+#include <rotorfit/base/resources.h>
 #include <rotorfit/constraints/cylindrical_constraints.h>
 #include <rotorfit/model/discretization.h>
 
@@ -20,6 +22,32 @@ namespace rotorfit
 {
   using namespace dealii;
 
+  namespace
+  {
+    /// 'machine' or a finite number > 0 (Resources/Memory limit).
+    class MemoryLimitPattern : public Patterns::PatternBase
+    {
+    public:
+      bool
+      match(const std::string &s) const override
+      {
+        return s == "machine" || patterns::Positive().match(s);
+      }
+
+      std::string
+      description(const OutputStyle = Machine) const override
+      {
+        return "[machine or Double > 0]";
+      }
+
+      std::unique_ptr<PatternBase>
+      clone() const override
+      {
+        return std::make_unique<MemoryLimitPattern>();
+      }
+    };
+  } // namespace
+
   Discretization::Discretization(const MPI_Comm comm, Log &log)
     : comm(comm)
     , log(log)
@@ -40,6 +68,17 @@ namespace rotorfit
                       "verification set-ups). Every body is also held by "
                       "statically determinate cylindrical supports.");
     prm.leave_subsection();
+    prm.enter_subsection("Resources");
+    prm.declare_entry("Memory limit",
+                      "machine",
+                      MemoryLimitPattern(),
+                      "Memory this run may use [GB, 10^9 bytes]; 'machine': the machine's "
+                      "physical memory. A model whose estimated peak (the mesh's "
+                      "factorisation before meshing; the factorisations and the Krylov "
+                      "space before assembly) exceeds 90 % of it is refused before the "
+                      "work starts (doc/limits.md). Set less on a machine shared with "
+                      "others.");
+    prm.leave_subsection();
   }
 
   void
@@ -55,6 +94,12 @@ namespace rotorfit
     rollers = Utilities::split_string_list(prm.get("Axial roller surfaces"), ',');
     check_unique(rollers, "Supports/Axial roller surfaces");
     prm.leave_subsection();
+    prm.enter_subsection("Resources");
+    const std::string limit = prm.get("Memory limit");
+    prm.leave_subsection();
+    memory_limit_bytes =
+      limit == "machine" ? resources::physical_memory_bytes() : std::stod(limit) * 1e9;
+    assembly_mesh.set_memory_limit(memory_limit_bytes);
   }
 
   void
@@ -95,12 +140,9 @@ namespace rotorfit
     check_unused_fits();
   }
 
-  void
-  Discretization::check_unused_fits() const
+  namespace
   {
-    // Two bodies meshed against each other (coincident boundary faces, not
-    // all at one z: an end face against a shoulder is no fit) are joined
-    // only by an Interface; without one each rides on its supports alone.
+    /// A boundary face of a body that is not all at one z.
     struct Face
     {
       Point<3>                 centre;
@@ -109,79 +151,111 @@ namespace rotorfit
       double                   r, z_lo, z_hi; // of its vertices
       std::vector<std::string> names;
     };
-    const auto       &tria  = assembly_mesh.triangulation();
-    std::vector<Face> faces;
-    double            scale = 0;
-    for (const auto &cell : tria.active_cell_iterators())
-      for (const unsigned int f : cell->face_indices())
-        if (cell->face(f)->at_boundary())
-          {
-            const auto face = cell->face(f);
-            Point<3>   c;
-            double     r = 0, z_lo = face->vertex(0)[2], z_hi = z_lo;
-            for (const unsigned int v : face->vertex_indices())
-              {
-                const Point<3> &p = face->vertex(v);
-                c += p / face->n_vertices();
-                r    = std::max(r, std::hypot(p[0], p[1]));
-                z_lo = std::min(z_lo, p[2]);
-                z_hi = std::max(z_hi, p[2]);
-              }
-            scale = std::max(scale, c.norm());
-            if (z_hi - z_lo <= 1e-9 * std::max(1e-3, std::abs(z_hi)))
-              continue;
-            Face x{c, cell->material_id(), false, r, z_lo, z_hi, {}};
-            for (const auto &i : interface_list.list())
-              x.used |= assembly_mesh.face_on_surface(i.shaft_surface, cell, f) ||
-                        assembly_mesh.face_on_surface(i.hub_surface, cell, f);
-            if (!x.used)
-              for (const auto &name : assembly_mesh.surface_names())
-                if (assembly_mesh.face_on_surface(name, cell, f))
-                  x.names.push_back(name);
-            faces.push_back(x);
-          }
-    std::sort(faces.begin(), faces.end(), [](const Face &a, const Face &b) {
-      return a.centre[0] < b.centre[0];
-    });
+
+    /// Coincident faces of two bodies that no Interface uses.
     struct Touch
     {
       unsigned int          n = 0;
       double                r_lo = 1e300, r_hi = 0, z_lo = 1e300, z_hi = -1e300;
       std::set<std::string> names;
     };
-    std::map<std::pair<types::material_id, types::material_id>, Touch> unused;
-    const double tol = std::max(assembly_mesh.matching_tolerance(), 1e-10) * scale;
-    for (std::size_t i = 0; i < faces.size(); ++i)
-      for (std::size_t j = i + 1; j < faces.size() && faces[j].centre[0] - faces[i].centre[0] <= tol;
-           ++j)
-        if (faces[i].body != faces[j].body && !faces[i].used && !faces[j].used &&
-            faces[i].centre.distance(faces[j].centre) <= tol)
-          {
-            auto        &t = unused[{std::min(faces[i].body, faces[j].body),
-                                     std::max(faces[i].body, faces[j].body)}];
-            ++t.n;
-            t.r_lo = std::min(t.r_lo, faces[i].r);
-            t.r_hi = std::max(t.r_hi, faces[i].r);
-            t.z_lo = std::min(t.z_lo, faces[i].z_lo);
-            t.z_hi = std::max(t.z_hi, faces[i].z_hi);
-            for (const auto *f : {&faces[i], &faces[j]})
-              t.names.insert(f->names.begin(), f->names.end());
-          }
-    for (const auto &[bodies, t] : unused)
+
+    /// The boundary faces that are not all at one z (an end face against a
+    /// shoulder is no fit), sorted by x of their centres; @p scale becomes
+    /// the largest distance of a centre from the origin.
+    std::vector<Face>
+    side_faces(const AssemblyMesh &mesh, const ContactInterfaces &interfaces, double &scale)
+    {
+      std::vector<Face> faces;
+      for (const auto &cell : mesh.triangulation().active_cell_iterators())
+        for (const unsigned int f : cell->face_indices())
+          if (cell->face(f)->at_boundary())
+            {
+              const auto face = cell->face(f);
+              Point<3>   c;
+              double     r = 0, z_lo = face->vertex(0)[2], z_hi = z_lo;
+              for (const unsigned int v : face->vertex_indices())
+                {
+                  const Point<3> &p = face->vertex(v);
+                  c += p / face->n_vertices();
+                  r    = std::max(r, std::hypot(p[0], p[1]));
+                  z_lo = std::min(z_lo, p[2]);
+                  z_hi = std::max(z_hi, p[2]);
+                }
+              scale = std::max(scale, c.norm());
+              if (z_hi - z_lo <= 1e-9 * std::max(1e-3, std::abs(z_hi)))
+                continue;
+              Face x{c, cell->material_id(), false, r, z_lo, z_hi, {}};
+              for (const auto &i : interfaces.list())
+                x.used |= mesh.face_on_surface(i.shaft_surface, cell, f) ||
+                          mesh.face_on_surface(i.hub_surface, cell, f);
+              if (!x.used)
+                for (const auto &name : mesh.surface_names())
+                  if (mesh.face_on_surface(name, cell, f))
+                    x.names.push_back(name);
+              faces.push_back(x);
+            }
+      std::sort(faces.begin(), faces.end(), [](const Face &a, const Face &b) {
+        return a.centre[0] < b.centre[0];
+      });
+      return faces;
+    }
+
+    /// Faces of two bodies within @p tol of each other, neither used by an
+    /// Interface, gathered per pair of bodies.
+    std::map<std::pair<types::material_id, types::material_id>, Touch>
+    unused_touches(const std::vector<Face> &faces, const double tol)
+    {
+      std::map<std::pair<types::material_id, types::material_id>, Touch> unused;
+      for (std::size_t i = 0; i < faces.size(); ++i)
+        for (std::size_t j = i + 1;
+             j < faces.size() && faces[j].centre[0] - faces[i].centre[0] <= tol;
+             ++j)
+          if (faces[i].body != faces[j].body && !faces[i].used && !faces[j].used &&
+              faces[i].centre.distance(faces[j].centre) <= tol)
+            {
+              auto &t = unused[{std::min(faces[i].body, faces[j].body),
+                                std::max(faces[i].body, faces[j].body)}];
+              ++t.n;
+              t.r_lo = std::min(t.r_lo, faces[i].r);
+              t.r_hi = std::max(t.r_hi, faces[i].r);
+              t.z_lo = std::min(t.z_lo, faces[i].z_lo);
+              t.z_hi = std::max(t.z_hi, faces[i].z_hi);
+              for (const auto *f : {&faces[i], &faces[j]})
+                t.names.insert(f->names.begin(), f->names.end());
+            }
+      return unused;
+    }
+
+    /// "lo .. hi mm", or "lo mm" where the two agree.
+    std::string
+    millimetre_range(const double lo, const double hi)
+    {
+      std::ostringstream s;
+      s << std::setprecision(4) << lo * 1e3;
+      if (hi - lo > 1e-6 * std::max(std::abs(lo), std::abs(hi)))
+        s << " .. " << hi * 1e3;
+      return s.str() + " mm";
+    }
+  } // namespace
+
+  void
+  Discretization::check_unused_fits() const
+  {
+    // Two bodies meshed against each other (coincident boundary faces, not
+    // all at one z) are joined only by an Interface; without one each rides
+    // on its supports alone.
+    double            scale = 0;
+    const auto        faces = side_faces(assembly_mesh, interface_list, scale);
+    const double      tol   = std::max(assembly_mesh.matching_tolerance(), 1e-10) * scale;
+    for (const auto &[bodies, t] : unused_touches(faces, tol))
       {
-        const auto range = [](const double lo, const double hi) {
-          std::ostringstream s;
-          s << std::setprecision(4) << lo * 1e3;
-          if (hi - lo > 1e-6 * std::max(std::abs(lo), std::abs(hi)))
-            s << " .. " << hi * 1e3;
-          return s.str() + " mm";
-        };
         std::string names;
         for (const auto &n : t.names)
           names += (names.empty() ? "" : ", ") + ("'" + n + "'");
         log << "Warning: bodies " << body_list[bodies.first].name << " and "
-            << body_list[bodies.second].name << " touch on " << t.n
-            << " faces (r " << range(t.r_lo, t.r_hi) << ", z " << range(t.z_lo, t.z_hi)
+            << body_list[bodies.second].name << " touch on " << t.n << " faces (r "
+            << millimetre_range(t.r_lo, t.r_hi) << ", z " << millimetre_range(t.z_lo, t.z_hi)
             << ") that no Interface uses"
             << (names.empty() ? std::string(" (no surface is named there)") :
                                 " (surface " + names + " lies there)")

@@ -1,21 +1,15 @@
 #include <rotorfit/base/format.h>
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/base/run_control.h>
+#include <rotorfit/output/pictures.h>
 #include <rotorfit/output/results.h>
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/timer.h>
 
 #include <algorithm>
-#include <cerrno>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-
-#include <spawn.h>
-#include <sys/wait.h>
-
-extern char **environ;
 
 namespace rotorfit
 {
@@ -154,7 +148,7 @@ namespace rotorfit
   }
 
   void
-  Results::add_critical(const StaticState &state, const ModalResult &modes)
+  Results::write_critical_shapes(const StaticState &state, const ModalResult &modes)
   {
     if (!paraview)
       return;
@@ -215,10 +209,10 @@ namespace rotorfit
   }
 
   void
-  Results::open(const Discretization &model, const bool with_modes, const bool response,
-                const bool exact_path)
+  Results::open(const Discretization &model, const Contents &contents)
   {
-    with_response = response;
+    const bool with_modes = contents.modes;
+    with_response         = contents.response;
     with_contact  = !model.interfaces().list().empty();
     if (write_paraview || (with_modes && write_shapes))
       paraview = std::make_unique<ParaViewOutput>(model, output_dir);
@@ -226,7 +220,7 @@ namespace rotorfit
       return;
     contact.open(output_dir);
     openings.open(output_dir);
-    if (exact_path)
+    if (contents.speed_path == ContactSolver::Path::exact)
       events.open(output_dir);
     if (with_modes)
       {
@@ -240,14 +234,14 @@ namespace rotorfit
   }
 
   void
-  Results::add(const std::vector<ResponsePeak> &peaks)
+  Results::write_response_peaks(const std::vector<ResponsePeak> &peaks)
   {
     if (root && prepared && with_response)
-      write_response_peaks(output_dir, peaks);
+      rotorfit::write_response_peaks(output_dir, peaks);
   }
 
   void
-  Results::add(const StaticState &state)
+  Results::write_static_state(const StaticState &state)
   {
     contact.add(state);
     openings.add(state);
@@ -257,7 +251,7 @@ namespace rotorfit
   }
 
   void
-  Results::add(const StaticState &state, const ModalResult &modes)
+  Results::write_modes(const StaticState &state, const ModalResult &modes)
   {
     rigid.add(modes);
     campbell.add(state, modes);
@@ -271,102 +265,39 @@ namespace rotorfit
   {
     if (!prepared || !root)
       return;
-    {
-      std::ofstream out(output_dir + "/summary.txt");
-      for (const auto &[key, value] : summary.list())
-        {
-          std::string line = value; // one line per entry: summary.txt is key value
-          std::replace(line.begin(), line.end(), '\n', ' ');
-          out << key << ' ' << line << '\n';
-        }
-    }
-    if (!pictures)
-      return;
+    write_summary(summary);
+    if (pictures)
+      draw_pictures(with_modes);
+  }
+
+  void
+  Results::write_summary(const Summary &summary) const
+  {
+    std::ofstream out(output_dir + "/summary.txt");
+    for (const auto &[key, value] : summary.list())
+      {
+        std::string line = value; // one line per entry: summary.txt is key value
+        std::replace(line.begin(), line.end(), '\n', ' ');
+        out << key << ' ' << line << '\n';
+      }
+  }
+
+  void
+  Results::draw_pictures(const bool with_modes)
+  {
     // the pictures read the files just closed; python3-matplotlib may be
     // missing, or a script fail: the tables stay complete, the log says
     // which picture failed and why
-    std::vector<std::pair<std::string, std::string>> scripts;
+    Pictures drawn(output_dir, log);
     if (with_contact)
-      scripts.emplace_back("plot_contact.py", "contact.png");
+      drawn.add("plot_contact.py", {}, "contact.png");
     if (with_modes && plot)
-      scripts.emplace_back("plot_campbell.py" +
-                              (campbell_fmax > 0 ? " --fmax " + format_number(campbell_fmax) : ""),
-                            "campbell.png");
+      drawn.add("plot_campbell.py",
+                campbell_fmax > 0 ? std::vector<std::string>{"--fmax", format_number(campbell_fmax)} :
+                                    std::vector<std::string>{},
+                "campbell.png");
     if (with_modes && with_response)
-      scripts.emplace_back("plot_response.py", "response_bode.png, response_polar.png");
-    // the scripts run side by side (each its own python3 and matplotlib
-    // start-up, about half a second), each into its own log, appended to
-    // plot.log in order once all are done
-    std::vector<pid_t> children;
-    for (unsigned int i = 0; i < scripts.size(); ++i)
-      {
-        const auto       &script  = scripts[i].first;
-        const std::string command = std::string(ROTORFIT_PYTHON) + " " + ROTORFIT_SCRIPT_DIR +
-                                    "/" + script.substr(0, script.find(' ')) + " '" + output_dir +
-                                    "'" + (script.find(' ') == std::string::npos ?
-                                             "" :
-                                             script.substr(script.find(' '))) +
-                                    " > '" + output_dir + "/plot." + std::to_string(i) +
-                                    ".log' 2> '" + output_dir + "/plot." + std::to_string(i) +
-                                    ".err'";
-        const char *argv[] = {"sh", "-c", command.c_str(), nullptr};
-        pid_t       pid    = -1;
-        if (posix_spawn(&pid, "/bin/sh", nullptr, nullptr, const_cast<char **>(argv), environ) != 0)
-          pid = -1;
-        children.push_back(pid);
-      }
-    std::ofstream plot_log(output_dir + "/plot.log", std::ios::app);
-    for (unsigned int i = 0; i < scripts.size(); ++i)
-      {
-        int status = -1;
-        if (children[i] > 0)
-          while (waitpid(children[i], &status, 0) < 0 && errno == EINTR)
-            ;
-        // the script's output, then its errors, into plot.log; the last
-        // line of its errors says why it failed
-        std::string last_error;
-        for (const char *kind : {".log", ".err"})
-          {
-            const std::string part = output_dir + "/plot." + std::to_string(i) + kind;
-            {
-              std::ifstream in(part);
-              std::string   line;
-              while (std::getline(in, line))
-                {
-                  plot_log << line << '\n';
-                  if (kind == std::string(".err") && line.find_first_not_of(" \t\r") != std::string::npos)
-                    last_error = line;
-                }
-            }
-            std::error_code ignored; // (finish() never throws)
-            std::filesystem::remove(part, ignored);
-          }
-        const auto       &files  = scripts[i].second;
-        const std::string script = scripts[i].first.substr(0, scripts[i].first.find(' '));
-        if (children[i] > 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0)
-          {
-            log << "Picture: " << output_dir << "/" << files << '\n';
-            continue;
-          }
-        // matplotlib is blamed only where its import failed (the scripts
-        // say 'not importable'); any other failure is the script's own
-        std::string why;
-        if (children[i] <= 0)
-          why = "/bin/sh could not be started";
-        else if (last_error.find("not importable") != std::string::npos ||
-                 last_error.rfind("ModuleNotFoundError", 0) == 0 ||
-                 last_error.rfind("ImportError", 0) == 0)
-          why = "python3-matplotlib (and numpy) are needed: " + last_error;
-        else if (!last_error.empty())
-          why = script + " failed: " + last_error;
-        else if (WIFSIGNALED(status))
-          why = script + " was killed by signal " + std::to_string(WTERMSIG(status));
-        else
-          why = script + " failed with exit code " + std::to_string(WEXITSTATUS(status));
-        if (why.size() > 400)
-          why = why.substr(0, 400) + " ...";
-        log << "Warning: " << files << " could not be drawn: " << printable(why) << " (see "
-            << output_dir << "/plot.log); the csv files are complete.\n";
-      }
+      drawn.add("plot_response.py", {}, "response_bode.png, response_polar.png");
+    drawn.draw();
   }
 } // namespace rotorfit

@@ -1,3 +1,4 @@
+#include <rotorfit/linear_algebra/replicated_blocks.h>
 #include <rotorfit/response/projection_basis.h>
 
 #include <deal.II/base/mpi.h>
@@ -150,59 +151,78 @@ namespace rotorfit
           }
     const std::size_t first = std::max(old, h);
     if (affine && old == 0 && h > 0 && affine->projected && k - h == affine->d.size())
+      project_adopted();
+    else
       {
-        // the adopted columns at this speed from their kept projections
-        const UnbalanceResponse::KeptProducts &p = *affine;
-        const double dO = omega - p.omega, dw = omega * omega - p.omega * p.omega,
-                     dt = omega * omega - p.w_tangent;
-        const std::size_t ke = k - h;
-        for (std::size_t j = h; j < k; ++j)
-          {
-            for (std::size_t i = 0, at = (j - h) * h; i < h; ++i, ++at)
-              {
-                mr[i][j] = p.col[0][at], mr[j][i] = p.row[0][at];
-                dr[i][j] = p.col[1][at] + dO * p.col[2][at];
-                dr[j][i] = p.row[1][at] + omega * p.row[2][at];
-                kr[i][j] = p.col[3][at] + dw * p.col[4][at];
-                kr[j][i] = p.row[3][at] + dt * p.row[4][at];
-              }
-            for (std::size_t i = h; i < k; ++i)
-              {
-                const std::size_t at = (i - h) * ke + (j - h); // e_i^T X_j
-                mr[i][j] = p.own[0][at];
-                dr[i][j] = p.own[1][at] + dO * p.own[2][at];
-                kr[i][j] = p.own[3][at] + dw * p.own[4][at];
-              }
-          }
-        return;
+        if (h > 0 && first < k)
+          project_on_head(first);
+        project_explicit(first);
       }
-    if (h > 0 && first < k)
+  }
+
+  void
+  ProjectionBasis::project_adopted()
+  {
+    const std::size_t k = size(), h = head();
+    // the adopted columns at this speed from their kept projections
+    const UnbalanceResponse::KeptProducts &p = *affine;
+    const double dO = omega - p.omega, dw = omega * omega - p.omega * p.omega,
+                 dt = omega * omega - p.w_tangent;
+    const std::size_t ke = k - h;
+    for (std::size_t j = h; j < k; ++j)
       {
-        // V_h^T (A e), and e^T (A V_h) from the head's products, so that
-        // every entry rounds as the residual does; all new columns in one
-        // pass over each block
-        std::vector<const Vector<double> *> e_v, e_m, e_d, e_k;
-        for (std::size_t j = first; j < k; ++j)
+        for (std::size_t i = 0, at = (j - h) * h; i < h; ++i, ++at)
           {
-            e_v.push_back(&v[j - h]);
-            e_m.push_back(&mv[j - h]);
-            e_d.push_back(&dv[j - h]);
-            e_k.push_back(&kv[j - h]);
+            mr[i][j] = p.col[0][at], mr[j][i] = p.row[0][at];
+            dr[i][j] = p.col[1][at] + dO * p.col[2][at];
+            dr[j][i] = p.row[1][at] + omega * p.row[2][at];
+            kr[i][j] = p.col[3][at] + dw * p.col[4][at];
+            kr[j][i] = p.row[3][at] + dt * p.row[4][at];
           }
-        const std::vector<double> m_col = op.basis->coefficients(e_m),
-                                  d_col = op.basis->coefficients(e_d),
-                                  k_col = op.basis->coefficients(e_k);
-        std::array<std::vector<double>, 5> row;
-        op.row_parts(e_v, row);
-        const double dt = omega * omega - op.w_tangent;
-        for (std::size_t j = first; j < k; ++j)
-          for (std::size_t i = 0, at = (j - first) * h; i < h; ++i, ++at)
-            {
-              mr[i][j] = m_col[at], mr[j][i] = row[0][at];
-              dr[i][j] = d_col[at], dr[j][i] = row[1][at] + omega * row[2][at];
-              kr[i][j] = k_col[at], kr[j][i] = row[3][at] + dt * row[4][at];
-            }
+        for (std::size_t i = h; i < k; ++i)
+          {
+            const std::size_t at = (i - h) * ke + (j - h); // e_i^T X_j
+            mr[i][j] = p.own[0][at];
+            dr[i][j] = p.own[1][at] + dO * p.own[2][at];
+            kr[i][j] = p.own[3][at] + dw * p.own[4][at];
+          }
       }
+  }
+
+  void
+  ProjectionBasis::project_on_head(const std::size_t first)
+  {
+    const std::size_t k = size(), h = head();
+    // V_h^T (A e), and e^T (A V_h) from the head's products, so that
+    // every entry rounds as the residual does; all new columns in one
+    // pass over each block
+    std::vector<const Vector<double> *> e_v, e_m, e_d, e_k;
+    for (std::size_t j = first; j < k; ++j)
+      {
+        e_v.push_back(&v[j - h]);
+        e_m.push_back(&mv[j - h]);
+        e_d.push_back(&dv[j - h]);
+        e_k.push_back(&kv[j - h]);
+      }
+    const std::vector<double> m_col = op.basis->coefficients(e_m),
+                              d_col = op.basis->coefficients(e_d),
+                              k_col = op.basis->coefficients(e_k);
+    std::array<std::vector<double>, 5> row;
+    op.row_parts(e_v, row);
+    const double dt = omega * omega - op.w_tangent;
+    for (std::size_t j = first; j < k; ++j)
+      for (std::size_t i = 0, at = (j - first) * h; i < h; ++i, ++at)
+        {
+          mr[i][j] = m_col[at], mr[j][i] = row[0][at];
+          dr[i][j] = d_col[at], dr[j][i] = row[1][at] + omega * row[2][at];
+          kr[i][j] = k_col[at], kr[j][i] = row[3][at] + dt * row[4][at];
+        }
+  }
+
+  void
+  ProjectionBasis::project_explicit(const std::size_t first)
+  {
+    const std::size_t k = size(), h = head();
     for (std::size_t j = first; j < k; ++j)
       {
         const std::size_t e = j - h;
@@ -295,7 +315,7 @@ namespace rotorfit
   bool
   ProjectionBasis::add(std::vector<Vector<double>> xs)
   {
-    std::vector<Vector<double>> x, mx;
+    std::vector<Vector<double>> x;
     std::vector<double>         norm0;
     for (auto &z : xs)
       {
@@ -310,63 +330,9 @@ namespace rotorfit
       return false;
     const std::size_t old = v.size();
     if (head() > 0)
-      {
-        // M-orthonormal like the head (columns of one scale keep the
-        // projected system as well conditioned as the basis is): against
-        // the head twice, then the explicit columns, then each other
-        replicated_mmult(op.mass, pointers(x), mx);
-        for (std::size_t i = 0; i < x.size(); ++i)
-          norm0[i] = std::sqrt(std::max(0., x[i] * mx[i]));
-        for (unsigned int pass = 0; pass < 2; ++pass)
-          {
-            for (std::size_t i = 0; i < x.size(); ++i)
-              op.basis->subtract_projection(x[i], mx[i]);
-            replicated_mmult(op.mass, pointers(x), mx);
-          }
-        for (std::size_t i = 0; i < x.size(); ++i)
-          for (unsigned int pass = 0; pass < 2; ++pass)
-            for (std::size_t e = 0; e < old; ++e)
-              x[i].add(-(mv[e] * x[i]), v[e]);
-        replicated_mmult(op.mass, pointers(x), mx);
-        for (std::size_t i = 0; i < x.size(); ++i)
-          {
-            if (v.size() > old)
-              {
-                // the columns of this block kept before it
-                for (unsigned int pass = 0; pass < 2; ++pass)
-                  for (std::size_t e = old; e < v.size(); ++e)
-                    x[i].add(-(mv[e] * x[i]), v[e]);
-                replicated_vmult(op.mass, x[i], mx[i]);
-              }
-            const double m_norm = std::sqrt(std::max(0., x[i] * mx[i]));
-            if (!(m_norm > 1e-10 * norm0[i]))
-              continue;
-            x[i] /= m_norm;
-            mx[i] /= m_norm;
-            v.push_back(std::move(x[i]));
-            mv.push_back(std::move(mx[i]));
-          }
-      }
+      add_m_orthonormal(x, norm0);
     else
-      {
-        for (std::size_t i = 0; i < x.size(); ++i)
-          {
-            for (unsigned int pass = 0; pass < 2; ++pass)
-              for (const auto &q : v)
-                x[i].add(-(q * x[i]), q);
-            const double norm = x[i].l2_norm();
-            if (!(norm > 1e-10 * norm0[i]))
-              continue;
-            x[i] /= norm;
-            v.push_back(std::move(x[i]));
-          }
-        std::vector<const Vector<double> *> added;
-        for (std::size_t e = old; e < v.size(); ++e)
-          added.push_back(&v[e]);
-        replicated_mmult(op.mass, added, mx);
-        for (auto &z : mx)
-          mv.push_back(std::move(z));
-      }
+      add_orthonormal(x, norm0);
     std::vector<const Vector<double> *> added;
     for (std::size_t e = old; e < v.size(); ++e)
       added.push_back(&v[e]);
@@ -379,5 +345,71 @@ namespace rotorfit
         kv.push_back(std::move(kx[e]));
       }
     return v.size() > old;
+  }
+
+  void
+  ProjectionBasis::add_m_orthonormal(std::vector<Vector<double>> &x, std::vector<double> &norm0)
+  {
+    // M-orthonormal like the head (columns of one scale keep the projected
+    // system as well conditioned as the basis is): against the head twice,
+    // then the explicit columns, then each other
+    const std::size_t           old = v.size();
+    std::vector<Vector<double>> mx;
+    replicated_mmult(op.mass, pointers(x), mx);
+    for (std::size_t i = 0; i < x.size(); ++i)
+      norm0[i] = std::sqrt(std::max(0., x[i] * mx[i]));
+    for (unsigned int pass = 0; pass < 2; ++pass)
+      {
+        for (std::size_t i = 0; i < x.size(); ++i)
+          op.basis->subtract_projection(x[i], mx[i]);
+        replicated_mmult(op.mass, pointers(x), mx);
+      }
+    for (std::size_t i = 0; i < x.size(); ++i)
+      for (unsigned int pass = 0; pass < 2; ++pass)
+        for (std::size_t e = 0; e < old; ++e)
+          x[i].add(-(mv[e] * x[i]), v[e]);
+    replicated_mmult(op.mass, pointers(x), mx);
+    for (std::size_t i = 0; i < x.size(); ++i)
+      {
+        if (v.size() > old)
+          {
+            // the columns of this block kept before it
+            for (unsigned int pass = 0; pass < 2; ++pass)
+              for (std::size_t e = old; e < v.size(); ++e)
+                x[i].add(-(mv[e] * x[i]), v[e]);
+            replicated_vmult(op.mass, x[i], mx[i]);
+          }
+        const double m_norm = std::sqrt(std::max(0., x[i] * mx[i]));
+        if (!(m_norm > 1e-10 * norm0[i]))
+          continue;
+        x[i] /= m_norm;
+        mx[i] /= m_norm;
+        v.push_back(std::move(x[i]));
+        mv.push_back(std::move(mx[i]));
+      }
+  }
+
+  void
+  ProjectionBasis::add_orthonormal(std::vector<Vector<double>> &x, const std::vector<double> &norm0)
+  {
+    const std::size_t old = v.size();
+    for (std::size_t i = 0; i < x.size(); ++i)
+      {
+        for (unsigned int pass = 0; pass < 2; ++pass)
+          for (const auto &q : v)
+            x[i].add(-(q * x[i]), q);
+        const double norm = x[i].l2_norm();
+        if (!(norm > 1e-10 * norm0[i]))
+          continue;
+        x[i] /= norm;
+        v.push_back(std::move(x[i]));
+      }
+    std::vector<const Vector<double> *> added;
+    for (std::size_t e = old; e < v.size(); ++e)
+      added.push_back(&v[e]);
+    std::vector<Vector<double>> mx;
+    replicated_mmult(op.mass, added, mx);
+    for (auto &z : mx)
+      mv.push_back(std::move(z));
   }
 } // namespace rotorfit

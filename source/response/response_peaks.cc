@@ -1,11 +1,10 @@
+#include <rotorfit/response/response_peaks.h>
 #include <rotorfit/response/unbalance_response.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
-
-// UnbalanceResponse, part 2: the resonance peaks of each probe, read as
-// API 684 asks (doc/theory.md 13.3).
+#include <optional>
 
 namespace rotorfit
 {
@@ -47,10 +46,62 @@ namespace rotorfit
       if (!std::isfinite(af) && resolved)
         required = nan;
     }
+
+    /// The peak at the local maximum @p i of the amplitudes @p a at the
+    /// speeds @p x; none if it falls to half power on neither side.
+    std::optional<ResponsePeak>
+    peak_at(const std::vector<double> &x, const std::vector<double> &a, const unsigned int i)
+    {
+      ResponsePeak peak;
+      // the parabola through the three points around the top
+      const double x0 = x[i - 1], x1 = x[i], x2 = x[i + 1];
+      const double d01 = (a[i] - a[i - 1]) / (x1 - x0), d12 = (a[i + 1] - a[i]) / (x2 - x1);
+      const double c2 = (d12 - d01) / (x2 - x0), c1 = d01 - c2 * (x0 + x1);
+      peak.rpm       = c2 < 0 ? std::clamp(-c1 / (2 * c2), x0, x2) : x1;
+      peak.amplitude = std::max(a[i], a[i - 1] + (peak.rpm - x0) * (d01 + c2 * (peak.rpm - x1)));
+      // half-power points: where the amplitude falls to peak / sqrt 2
+      const double level = peak.amplitude / std::sqrt(2.);
+      unsigned int above = 1;
+      for (unsigned int j = i; j > 0 && a[j - 1] >= level; --j)
+        ++above;
+      for (unsigned int j = i; j + 1 < x.size() && a[j + 1] >= level; ++j)
+        ++above;
+      peak.resolved = above >= 3;
+      peak.low_rpm = peak.high_rpm = nan;
+      // the inner end of a crossing is the sample, or the parabola's top
+      // when even the highest sample lies below half power (a peak far
+      // sharper than the speed step)
+      const auto inner = [&](const unsigned int j) {
+        return a[j] >= level ? std::make_pair(x[j], a[j]) :
+                               std::make_pair(peak.rpm, peak.amplitude);
+      };
+      for (unsigned int j = i; j > 0; --j)
+        if (a[j - 1] < level)
+          {
+            const auto [xj, aj] = inner(j);
+            peak.low_rpm        = crossing(x[j - 1], a[j - 1], xj, aj, level);
+            break;
+          }
+      for (unsigned int j = i; j + 1 < x.size(); ++j)
+        if (a[j + 1] < level)
+          {
+            const auto [xj, aj] = inner(j);
+            peak.high_rpm       = crossing(xj, aj, x[j + 1], a[j + 1], level);
+            break;
+          }
+      // a wiggle that falls to half power on neither side is no resonance;
+      // one side beyond the sweep: kept with AF = nan
+      if (std::isnan(peak.low_rpm) && std::isnan(peak.high_rpm))
+        return std::nullopt;
+      peak.amplification_factor =
+        peak.high_rpm > peak.low_rpm ? peak.rpm / (peak.high_rpm - peak.low_rpm) : nan;
+      return peak;
+    }
   } // namespace
 
   std::vector<ResponsePeak>
-  UnbalanceResponse::peaks() const
+  find_response_peaks(const std::vector<ResponseAtSpeed> &history,
+                      const std::vector<double>          &operating)
   {
     std::vector<ResponsePeak> out;
     if (history.empty())
@@ -70,56 +121,16 @@ namespace rotorfit
           {
             if (!(a[i] > a[i - 1] && a[i] >= a[i + 1]) || !(a[i] > floor))
               continue;
-            ResponsePeak peak;
-            peak.probe     = history.front().probes[p].probe;
-            peak.fit_state = history[i].fit_state;
-            // the parabola through the three points around the top
-            const double x0 = x[i - 1], x1 = x[i], x2 = x[i + 1];
-            const double d01 = (a[i] - a[i - 1]) / (x1 - x0), d12 = (a[i + 1] - a[i]) / (x2 - x1);
-            const double c2 = (d12 - d01) / (x2 - x0), c1 = d01 - c2 * (x0 + x1);
-            peak.rpm       = c2 < 0 ? std::clamp(-c1 / (2 * c2), x0, x2) : x1;
-            peak.amplitude = std::max(a[i], a[i - 1] + (peak.rpm - x0) * (d01 + c2 * (peak.rpm - x1)));
-            // half-power points: where the amplitude falls to peak / sqrt 2
-            const double level = peak.amplitude / std::sqrt(2.);
-            unsigned int above = 1;
-            for (unsigned int j = i; j > 0 && a[j - 1] >= level; --j)
-              ++above;
-            for (unsigned int j = i; j + 1 < x.size() && a[j + 1] >= level; ++j)
-              ++above;
-            peak.resolved = above >= 3;
-            peak.low_rpm = peak.high_rpm = nan;
-            // the inner end of a crossing is the sample, or the parabola's top
-            // when even the highest sample lies below half power (a peak
-            // far sharper than the speed step)
-            const auto inner = [&](const unsigned int j) {
-              return a[j] >= level ? std::make_pair(x[j], a[j]) :
-                                     std::make_pair(peak.rpm, peak.amplitude);
-            };
-            for (unsigned int j = i; j > 0; --j)
-              if (a[j - 1] < level)
-                {
-                  const auto [xj, aj] = inner(j);
-                  peak.low_rpm        = crossing(x[j - 1], a[j - 1], xj, aj, level);
-                  break;
-                }
-            for (unsigned int j = i; j + 1 < x.size(); ++j)
-              if (a[j + 1] < level)
-                {
-                  const auto [xj, aj] = inner(j);
-                  peak.high_rpm       = crossing(xj, aj, x[j + 1], a[j + 1], level);
-                  break;
-                }
-            // a wiggle that falls to half power on neither side is no
-            // resonance; one side beyond the sweep: kept with AF = nan
-            if (std::isnan(peak.low_rpm) && std::isnan(peak.high_rpm))
+            auto peak = peak_at(x, a, i);
+            if (!peak)
               continue;
-            peak.amplification_factor =
-              peak.high_rpm > peak.low_rpm ? peak.rpm / (peak.high_rpm - peak.low_rpm) : nan;
-            peak.separation_margin = peak.required_margin = nan;
+            peak->probe     = history.front().probes[p].probe;
+            peak->fit_state = history[i].fit_state;
+            peak->separation_margin = peak->required_margin = nan;
             if (operating.size() == 2)
-              margins(peak.rpm, peak.amplification_factor, peak.resolved, operating[0],
-                      operating[1], peak.separation_margin, peak.required_margin);
-            out.push_back(peak);
+              margins(peak->rpm, peak->amplification_factor, peak->resolved, operating[0],
+                      operating[1], peak->separation_margin, peak->required_margin);
+            out.push_back(*peak);
           }
       }
     return out;

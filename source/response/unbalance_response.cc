@@ -1,6 +1,7 @@
 #include <rotorfit/base/format.h>
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/base/patterns.h>
+#include <rotorfit/linear_algebra/replicated_blocks.h>
 #include <rotorfit/response/projection_basis.h>
 #include <rotorfit/response/unbalance_response.h>
 #include <rotorfit/statics/speed_schedule.h>
@@ -11,10 +12,6 @@
 #include <limits>
 #include <iomanip>
 #include <sstream>
-
-// UnbalanceResponse, part 1: parameters, stations and the forced solve of a
-// speed. Part 2 (the peaks, their amplification factors and separation
-// margins): response_peaks.cc.
 
 namespace rotorfit
 {
@@ -96,6 +93,7 @@ namespace rotorfit
       {
         prm.enter_subsection("Unbalance " + name);
         Unbalance u;
+        u.name = name;
         u.station.parse_parameters(prm, "Unbalance " + name);
         u.mass_eccentricity = prm.get_double("Mass eccentricity");
         u.phase             = prm.get_double("Phase") * M_PI / 180;
@@ -108,7 +106,7 @@ namespace rotorfit
         Station s;
         s.parse_parameters(prm, "Probe " + name);
         prm.leave_subsection();
-        probes.emplace_back(name, s);
+        probes.push_back({name, s});
       }
     prm.enter_subsection("Unbalance response");
     operating.clear();
@@ -134,24 +132,24 @@ namespace rotorfit
   {
     if (!enabled())
       return;
-    std::vector<std::pair<std::string, Station>> extra;
+    std::vector<Probe> extra;
     extra.swap(probes);
     for (const auto &b : bearings.list())
-      probes.emplace_back(b.name, b.station);
+      probes.push_back({b.name, b.station});
     for (auto &u : unbalances)
       {
         u.station.setup(model, log);
-        probes.emplace_back(u.station.owner.substr(std::string("Unbalance ").size()), u.station);
+        probes.push_back({u.name, u.station});
       }
     for (auto &[name, s] : extra)
       {
         s.setup(model, log);
-        probes.emplace_back(name, s);
+        probes.push_back({name, s});
       }
     for (unsigned int i = 0; i < probes.size(); ++i)
       for (unsigned int j = 0; j < i; ++j)
-        if (probes[i].first == probes[j].first)
-          throw InputError("the response probe name '" + probes[i].first +
+        if (probes[i].name == probes[j].name)
+          throw InputError("the response probe name '" + probes[i].name +
                            "' is used twice (bearings, unbalances and Probes share one "
                            "list of names in response.csv); rename one.");
     std::ostringstream m;
@@ -205,101 +203,19 @@ namespace rotorfit
     const double f_norm = std::sqrt(f.re.norm_sqr() + f.im.norm_sqr());
     const std::size_t n = f.re.size();
     ComplexVector u{Vector<double>(n), Vector<double>(n)};
-    // one attempt on a basis; on the eigen reduced model's basis it gives up
-    // when an enrichment step no longer halves the residual (the products
-    // of its head with a stiff K round to about that level), and the speed
-    // is solved on its modes instead
-    const auto attempt = [&](const PrestressedEigenproblem::SpeedOperators &o) {
-      ProjectionBasis basis{o, {}, {}, {}, {}, nullptr, w, {}, {}, {}};
-      // on the eigen reduced basis of the last speed: that speed's explicit
-      // columns (at most as many as a fresh start and four enrichments hold)
-      const std::pair<const ReducedBasis *, unsigned int> head{o.basis,
-                                                               o.basis ? o.basis->version() : 0};
-      const bool reuse = o.basis && head == kept_head && !kept.empty();
-      // (the checks' record goes on from one kept base to the next)
-      const auto rekeep = [this](KeptProducts next) {
-        next.worst    = kept_products.worst;
-        next.served   = kept_products.served;
-        next.refused  = kept_products.refused;
-        kept_products = std::move(next);
-      };
-      const auto keep = [&](const bool ok) {
-        if (o.basis && ok && basis.v.size() <= 10)
-          {
-            // the same columns again: their products at the speed they
-            // were first kept stay the base of the affine share
-            if (!(reuse && basis.v.size() == kept.size() && o.segment != 0 &&
-                  o.segment == kept_products.segment))
-              rekeep({o.segment, w, basis.dv, basis.kv, {}, {}});
-            kept      = basis.v;
-            kept_m    = basis.mv;
-            kept_head = head;
-          }
-        else if (o.basis)
-          {
-            kept.clear();
-            kept_m.clear();
-            kept_head = {nullptr, 0};
-            rekeep({});
-          }
-        return ok;
-      };
-      if (reuse)
-        basis.adopt(kept, kept_m, kept_products, w);
-      else
-        {
-          // the speed's modes lie in the eigen reduced basis when it solved them
-          if (!o.basis)
-            for (const auto &p : modes)
-              basis.add({p.phi.re, p.phi.im});
-          // S^-1 F: F = Omega^2 F_0, so the direction of the latest
-          // factorisation's S^-1 F_0 (the real and imaginary parts in one
-          // pass over the factors), made once per factorisation
-          if (correction_factor !=
-              std::make_pair(&o.shifted_inverse, o.shifted_inverse.n_operators()))
-            {
-              const ComplexVector f0 = forcing();
-              replicated_solve(o.shifted_inverse, o.mass, {&f0.re, &f0.im}, static_correction);
-              correction_factor = {&o.shifted_inverse, o.shifted_inverse.n_operators()};
-            }
-          basis.add(static_correction);
-        }
-      std::vector<Vector<double>> x;
-      double previous = std::numeric_limits<double>::infinity();
-      for (unsigned int step = 0;; ++step)
-        {
-          ComplexVector r = f;
-          basis.solve(f, w, tolerance, u, r);
-          out.residual   = std::sqrt(r.re.norm_sqr() + r.im.norm_sqr()) / f_norm;
-          out.basis_size = basis.size();
-          if (out.residual <= tolerance)
-            return keep(true);
-          if (o.basis && !(out.residual < 0.5 * previous))
-            return keep(false);
-          previous   = out.residual;
-          bool grown = false;
-          if (step < max_enrichment)
-            {
-              replicated_solve(o.shifted_inverse, o.mass, {&r.re, &r.im}, x);
-              grown = basis.add(std::move(x));
-            }
-          if (!grown)
-            return keep(false);
-        }
-    };
     if (f_norm > 0)
       {
         bool done = false;
         if (op.basis)
           {
-            done = attempt(op);
+            done = attempt(op, modes, {f, w, f_norm}, u, out);
             reduced_speeds += done ? 1 : 0;
           }
         if (!done)
           {
             PrestressedEigenproblem::SpeedOperators on_modes = op;
             on_modes.basis                                   = nullptr;
-            out.converged                                    = attempt(on_modes);
+            out.converged = attempt(on_modes, modes, {f, w, f_norm}, u, out);
           }
       }
     if (!std::isfinite(out.residual))
@@ -318,6 +234,117 @@ namespace rotorfit
       worst_residual = out.residual;
     history.push_back(out);
     return out;
+  }
+
+  bool
+  UnbalanceResponse::attempt(const PrestressedEigenproblem::SpeedOperators &o,
+                             const std::vector<EigenPair>                   &modes,
+                             const Load                                     &load,
+                             ComplexVector                                  &u,
+                             ResponseAtSpeed                                &out)
+  {
+    // one attempt on a basis; on the eigen reduced model's basis it gives up
+    // when an enrichment step no longer halves the residual (the products
+    // of its head with a stiff K round to about that level), and the speed
+    // is solved on its modes instead
+    const ComplexVector &f = load.f;
+    const double         w = load.w;
+    ProjectionBasis      basis{o, {}, {}, {}, {}, nullptr, w, {}, {}, {}};
+    // on the eigen reduced basis of the last speed: that speed's explicit
+    // columns (at most as many as a fresh start and four enrichments hold)
+    const std::pair<const ReducedBasis *, unsigned int> head{o.basis,
+                                                             o.basis ? o.basis->version() : 0};
+    const bool reuse = o.basis && head == kept_head && !kept.empty();
+    if (reuse)
+      basis.adopt(kept, kept_m, kept_products, w);
+    else
+      start_basis(basis, modes);
+    std::vector<Vector<double>> x;
+    double previous = std::numeric_limits<double>::infinity();
+    for (unsigned int step = 0;; ++step)
+      {
+        ComplexVector r = f;
+        basis.solve(f, w, tolerance, u, r);
+        out.residual   = std::sqrt(r.re.norm_sqr() + r.im.norm_sqr()) / load.norm;
+        out.basis_size = basis.size();
+        if (out.residual <= tolerance)
+          return keep(basis, head, reuse, true);
+        if (o.basis && !(out.residual < 0.5 * previous))
+          return keep(basis, head, reuse, false);
+        previous   = out.residual;
+        bool grown = false;
+        if (step < max_enrichment)
+          {
+            replicated_solve(o.shifted_inverse, o.mass, {&r.re, &r.im}, x);
+            grown = basis.add(std::move(x));
+          }
+        if (!grown)
+          return keep(basis, head, reuse, false);
+      }
+  }
+
+  void
+  UnbalanceResponse::start_basis(ProjectionBasis &basis, const std::vector<EigenPair> &modes)
+  {
+    const PrestressedEigenproblem::SpeedOperators &o = basis.op;
+    // the speed's modes lie in the eigen reduced basis when it solved them
+    if (!o.basis)
+      for (const auto &p : modes)
+        basis.add({p.phi.re, p.phi.im});
+    // S^-1 F: F = Omega^2 F_0, so the direction of the latest
+    // factorisation's S^-1 F_0 (the real and imaginary parts in one pass
+    // over the factors), made once per factorisation
+    if (correction_factor != std::make_pair(&o.shifted_inverse, o.shifted_inverse.n_operators()))
+      {
+        const ComplexVector f0 = forcing();
+        replicated_solve(o.shifted_inverse, o.mass, {&f0.re, &f0.im}, static_correction);
+        correction_factor = {&o.shifted_inverse, o.shifted_inverse.n_operators()};
+      }
+    basis.add(static_correction);
+  }
+
+  bool
+  UnbalanceResponse::keep(const ProjectionBasis                               &basis,
+                          const std::pair<const ReducedBasis *, unsigned int> &head,
+                          const bool                                           reuse,
+                          const bool                                           ok)
+  {
+    const PrestressedEigenproblem::SpeedOperators &o = basis.op;
+    if (o.basis && ok && basis.v.size() <= 10)
+      {
+        // the same columns again: their products at the speed they were
+        // first kept stay the base of the affine share
+        if (!(reuse && basis.v.size() == kept.size() && o.segment != 0 &&
+              o.segment == kept_products.segment))
+          rekeep({o.segment, basis.omega, basis.dv, basis.kv, {}, {}});
+        kept      = basis.v;
+        kept_m    = basis.mv;
+        kept_head = head;
+      }
+    else if (o.basis)
+      {
+        kept.clear();
+        kept_m.clear();
+        kept_head = {nullptr, 0};
+        rekeep({});
+      }
+    return ok;
+  }
+
+  void
+  UnbalanceResponse::rekeep(KeptProducts next)
+  {
+    // (the checks' record goes on from one kept base to the next)
+    next.worst    = kept_products.worst;
+    next.served   = kept_products.served;
+    next.refused  = kept_products.refused;
+    kept_products = std::move(next);
+  }
+
+  std::vector<ResponsePeak>
+  UnbalanceResponse::peaks() const
+  {
+    return find_response_peaks(history, operating);
   }
 
   std::vector<ProbeResponse>

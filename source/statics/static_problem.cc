@@ -225,7 +225,7 @@ namespace rotorfit
   StaticProblem::solve_ahead(const std::vector<double> &rpm)
   {
     ahead.clear();
-    if (!exact_path())
+    if (speed_path() != ContactSolver::Path::exact)
       return;
     // the laws kept must stay well below the factorisation they replace
     const double       n_dofs  = model.dofs().n_dofs();
@@ -294,7 +294,8 @@ namespace rotorfit
     summary.add("static.low_rank_updates", contact.n_low_rank_updates());
     summary.add("static.influence_columns", contact.n_influence_columns());
     summary.add("static.uzawa_iterations", uzawa_iterations);
-    summary.add("static.speed_path", exact_path() ? "exact" : "sampled");
+    summary.add("static.speed_path",
+                speed_path() == ContactSolver::Path::exact ? "exact" : "sampled");
     summary.add("static.contact_events", contact_events);
     // exact path: the largest relative residual of a pair-space solve (a
     // speed above 1e-8 is flagged converged = 0 in contact.csv)
@@ -308,7 +309,7 @@ namespace rotorfit
         << std::setprecision(1) << contact.timing().factorize << " s factorising, "
         << contact.timing().columns << " s influence columns, " << contact.timing().solves
         << " s load-case back-substitutions" << std::defaultfloat << std::setprecision(6);
-    if (exact_path())
+    if (speed_path() == ContactSolver::Path::exact)
       log << "; exact path: " << contact_events << " contact events, largest pair-space residual "
           << contact.worst_path_residual();
     log << '\n';

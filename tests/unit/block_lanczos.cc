@@ -10,6 +10,7 @@
 #include <rotorfit/eigen/block_lanczos.h>
 #include <rotorfit/eigen/damped_eigensolver.h>
 #include <rotorfit/linear_algebra/matrix_pattern.h>
+#include <rotorfit/linear_algebra/replicated_blocks.h>
 
 #include <deal.II/base/index_set.h>
 #include <deal.II/base/mpi.h>

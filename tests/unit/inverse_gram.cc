@@ -1,4 +1,4 @@
-// replicated_inverse_gram (include/rotorfit/eigen/damped_eigensolver.h), the
+// replicated_inverse_gram (include/rotorfit/linear_algebra/replicated_blocks.h), the
 // Gram matrix G = P^T S^-1 P of the reduced model's residual blocks, with the
 // shortcut of an undamped anchor: for S = K + sigma^2 M, S^-1 K V = V -
 // sigma^2 S^-1 M V, so the block K V needs no back-substitution. A spring
@@ -14,7 +14,8 @@
 // B V again after adding and
 // subtracting D V (and equal to B V to rounding, 1e-15). On 1 and 2 ranks.
 
-#include <rotorfit/eigen/damped_eigensolver.h>
+#include <rotorfit/linear_algebra/replicated_blocks.h>
+#include <rotorfit/linear_algebra/replicated_blocks.h>
 
 #include <deal.II/base/index_set.h>
 #include <deal.II/base/mpi.h>

@@ -14,6 +14,7 @@
 
 #include <rotorfit/eigen/damped_eigensolver.h>
 #include <rotorfit/linear_algebra/direct_solver.h>
+#include <rotorfit/linear_algebra/replicated_blocks.h>
 
 #include <deal.II/base/index_set.h>
 #include <deal.II/base/mpi.h>

@@ -12,7 +12,10 @@ namespace rotorfit
    * 'include' are not scanned). So is a control byte (a NUL: a file saved as
    * UTF-16) and a number no double holds (1e-310 passes deal.II's patterns,
    * then fails its conversion). Records where each entry is set
-   * (where_set()). Throws InputError.
+   * (where_set()). An 'include' names a file relative to the including
+   * file: the text returned names it so for deal.II, which opens it
+   * relative to the working directory (an include inside the included file
+   * must then be absolute). Throws InputError.
    */
   std::string
   read_parameter_file(const std::string &filename);

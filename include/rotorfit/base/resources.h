@@ -41,17 +41,11 @@ namespace rotorfit
       return n * nonzeros_per_dof * 12.;
     }
 
-    /// Memory the run may use [bytes]: the machine's physical memory, or
-    /// ROTORFIT_MEMORY_GB if set (a share of a machine used by others).
+    /// The machine's physical memory [bytes]: what a run may use unless
+    /// Resources/Memory limit says less (a share of a machine used by others).
     inline double
     physical_memory_bytes()
     {
-      if (const char *limit = std::getenv("ROTORFIT_MEMORY_GB"))
-        {
-          const double gb = std::atof(limit);
-          if (gb > 0)
-            return gb * 1e9;
-        }
       return static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
              static_cast<double>(::sysconf(_SC_PAGE_SIZE));
     }

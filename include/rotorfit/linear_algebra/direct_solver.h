@@ -25,6 +25,7 @@ namespace rotorfit
   class DirectSolver
   {
   public:
+    /// The factorisation: LDL^T or LU.
     enum class Type
     {
       mumps_cholesky,
@@ -37,9 +38,11 @@ namespace rotorfit
     DirectSolver &
     operator=(const DirectSolver &) = delete;
 
+    /// The entries of subsection "Linear solver".
     static void
     declare_parameters(dealii::ParameterHandler &prm);
 
+    /// Reads the entries of declare_parameters().
     void
     parse_parameters(dealii::ParameterHandler &prm);
 
@@ -75,12 +78,14 @@ namespace rotorfit
     void
     solve_sparse(Mat X, Mat Bt) const;
 
+    /// A factorisation is at hand.
     bool
     factorized() const
     {
       return ksp != nullptr;
     }
 
+    /// Factorisations made (numeric phases alone included).
     unsigned int
     n_factorizations() const
     {
@@ -101,12 +106,14 @@ namespace rotorfit
       return workspace_retries;
     }
 
+    /// Right-hand sides back-substituted.
     unsigned int
     n_solves() const
     {
       return solves;
     }
 
+    /// The solver's name for the log.
     std::string
     name() const;
 
@@ -157,6 +164,33 @@ namespace rotorfit
   private:
     void
     destroy();
+    /// The numeric phase alone on the analysis made for @p A: false (and
+    /// a workspace retry counted) where MUMPS ran out of room.
+    bool
+    refactorize_on_analysis(Mat A);
+    /// A new KSP with MUMPS's analysis and factorisation of @p A, retried
+    /// with more workspace where the delayed pivots need it.
+    void
+    analyse_and_factorize(Mat A, MPI_Comm comm);
+    /// @p order: the update's columns, those of the last update it keeps
+    /// first (their columns of Z moved to the front of update_z); returns
+    /// their number.
+    std::size_t
+    keep_update_columns(const std::vector<UpdateColumn> &columns,
+                        std::vector<UpdateColumn>       &order);
+    /// Z = A^-1 U for the columns of @p order after the @p retained first.
+    void
+    back_substitute_update(const std::vector<UpdateColumn> &order, std::size_t retained);
+    /// The LU of the capacitance matrix diag(1/s) + U^T Z; the update
+    /// becomes @p order's, or false (and no update) if it is singular.
+    bool
+    factorize_capacitance(std::vector<UpdateColumn> &&order);
+    /// @p row is one of this rank's
+    bool
+    owns(const PetscInt row) const
+    {
+      return row >= row_begin && row < row_begin + local_rows;
+    }
     /// x -= Z c for the @p k local columns of @p x (leading dimension
     /// @p lda), c from the capacitance system (the current update).
     void

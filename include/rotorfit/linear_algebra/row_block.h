@@ -18,6 +18,7 @@ namespace rotorfit
     /// quarter of n; a block that is zero everywhere keeps nothing (empty()).
     void
     assign(std::vector<double> &&dense, std::size_t n);
+    /// Back to an empty block.
     void
     clear();
 
@@ -38,6 +39,7 @@ namespace rotorfit
     {
       return dense() ? n : kept.size();
     }
+    /// the columns (0 where empty())
     std::size_t
     n_columns() const
     {

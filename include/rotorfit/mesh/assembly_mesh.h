@@ -14,6 +14,7 @@
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/mapping_fe_field.h>
 
+#include <rotorfit/mesh/gmsh_mesher.h>
 #include <rotorfit/mesh/section_mesh.h>
 
 #include <deal.II/lac/vector.h>
@@ -40,7 +41,8 @@ namespace rotorfit
    * separate mesh and the contact pairs can be built on the interface.
    * Curved surfaces are represented to second order: gmsh's mid-edge nodes
    * (placed on the CAD surfaces) define a quadratic position field used by a
-   * MappingFEField for every integral and support point.
+   * MappingFEField for every integral and support point. gmsh itself is
+   * driven by GmshMesher.
    *
    * Parameters: subsection "Geometry".
    */
@@ -58,6 +60,14 @@ namespace rotorfit
     parse_parameters(dealii::ParameterHandler       &prm,
                      const std::string              &prm_directory,
                      const std::vector<std::string> &body_names);
+
+    /// Memory this run may use [bytes]: a mesh whose factorisation alone
+    /// would need more than 90 % of it is refused before it is built.
+    void
+    set_memory_limit(const double bytes)
+    {
+      memory_limit = bytes;
+    }
 
     /// Whether the cells are hexahedra (section mesher) or tetrahedra (gmsh).
     bool
@@ -180,25 +190,6 @@ namespace rotorfit
                          const std::string &entry) const;
 
   private:
-    struct GmshData
-    {
-      std::vector<std::size_t>                                  node_tags;
-      std::vector<double>                                       node_coords;
-      std::map<std::string, std::vector<std::size_t>>           volumes;
-      std::map<std::string, std::vector<std::size_t>>           surfaces;
-      unsigned int                                              nodes_per_tet = 0;
-      unsigned int                                              nodes_per_tri = 0;
-    };
-
-    GmshData
-    run_gmsh() const;
-    /// Open the geometry (with the Geometry parameters) and mesh it (.geo).
-    void
-    open_and_mesh() const;
-    /// Nodes and the elements of every physical volume and surface.
-    void
-    read_physical_groups(GmshData &data) const;
-
     /// The vertices of each body, with a body's own copy of the nodes it
     /// shares with another (the two sides of a fit).
     struct BodyCells
@@ -210,16 +201,10 @@ namespace rotorfit
       std::map<std::pair<std::size_t, std::size_t>, dealii::Point<3>> mid_nodes;
     };
     BodyCells
-    body_cells(GmshData &data, const std::vector<std::string> &body_volumes) const;
+    body_cells(GmshMesh &data, const std::vector<std::string> &body_volumes) const;
     /// The physical surfaces, once per body whose copy of the nodes they touch.
     void
-    collect_surfaces(const GmshData &data, const BodyCells &body);
-    /// Refuses a mesh too big for the machine before gmsh meshes it: from
-    /// Mesh.MeshSizeMax and the body volumes, then (@p surfaces_meshed)
-    /// also from the surface mesh.
-    void
-    check_volume_mesh_size(const bool surfaces_meshed) const;
-
+    collect_surfaces(const GmshMesh &data, const BodyCells &body);
     void
     build_position_field(
       const std::map<std::pair<std::size_t, std::size_t>, dealii::Point<3>>
@@ -243,6 +228,7 @@ namespace rotorfit
     std::map<std::string, double> geometry_parameters;
     unsigned int                  order     = 2;
     double                        match_tol = 1e-8;
+    double                        memory_limit = 0;
 
     dealii::FESystem<3>    position_fe;
     dealii::DoFHandler<3>  position_dof_handler;

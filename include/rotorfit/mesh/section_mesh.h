@@ -1,5 +1,7 @@
 #pragma once
 
+#include <rotorfit/mesh/section_layout.h>
+
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/types.h>
 
@@ -36,6 +38,10 @@ namespace rotorfit
    * Named surfaces (for interfaces, bearings, probes, rollers) are built from
    * selectors on the bodies' boundaries and set as boundary ids.
    *
+   * The plan (fit zones, axial nodes, radial fractions) is a SectionLayout,
+   * its cells are built by SectionHexahedra; this class reads the
+   * parameters, names the surfaces and picks the next refinement.
+   *
    * Parameters: subsection "Geometry/Sections" and the entry "Sections" of
    * every "Body <name>".
    */
@@ -43,19 +49,7 @@ namespace rotorfit
   {
   public:
     /// One axial section: a cylinder, annulus or cone (radii linear in z).
-    struct Section
-    {
-      double z0, z1, ri0, ro0, ri1, ro1;
-      double
-      ri(const double z) const;
-      double
-      ro(const double z) const;
-      bool
-      solid() const
-      {
-        return ri0 == 0;
-      }
-    };
+    using Section = AxialSection;
 
     /// Which boundary of a body a selector picks.
     enum class Side
@@ -65,6 +59,8 @@ namespace rotorfit
       start,
       end
     };
+    /// One selector of Geometry/Sections/Surfaces: a side of a body, the
+    /// outer or inner one within [z_from, z_to] [m].
     struct Selector
     {
       unsigned int body;
@@ -72,18 +68,9 @@ namespace rotorfit
       double       z_from, z_to;
     };
 
-    /**
-     * Nodes added by adaptive refinement (doc/theory.md 1.4): axial nodes
-     * (every body at that z) and radial fractions of a run of sections
-     * (keyed by body and its first section). Whole rings are refined, so the
-     * mesh stays conforming, hanging-node free and rotationally symmetric.
-     */
-    struct Refinement
-    {
-      std::vector<double>                                                  z;
-      std::map<std::pair<unsigned int, unsigned int>, std::vector<double>> fractions;
-      unsigned int layers_split = 0, intervals_split = 0;
-    };
+    /// Nodes added by adaptive refinement (whole rings: the mesh stays
+    /// conforming and rotationally symmetric).
+    using Refinement = SectionRefinement;
 
     /// Inside subsection "Geometry".
     static void
@@ -149,18 +136,9 @@ namespace rotorfit
     }
 
   private:
-    /// A run of sections of one body with continuous radii: one set of
-    /// radial fractions between its inner boundary and its outer radius.
-    struct Chain
-    {
-      unsigned int        body;
-      unsigned int        first, last; ///< sections [first, last]
-      bool                solid;
-      bool                inner_fit = false, outer_fit = false;
-      std::vector<double> fractions; ///< 0 .. 1, inner to outer
-      std::vector<double> added;     ///< fractions of the refinement
-    };
-
+    /// The plan of the current sections and refinement.
+    SectionLayout
+    plan() const;
     void
     read_sections(const unsigned int b, const std::string &text);
     void
@@ -171,15 +149,6 @@ namespace rotorfit
     parse_surfaces();
     Selector
     parse_selector(const std::string &selector, const std::string &surface) const;
-    void
-    merge_step_radii(std::vector<Chain> &chains) const;
-    /// The hexahedra of body @p b on the axial nodes @p z.
-    void
-    add_body_cells(const unsigned int                b,
-                   const std::vector<double>        &z,
-                   const std::vector<Chain>         &chains,
-                   std::vector<dealii::Point<3>>    &vertices,
-                   std::vector<dealii::CellData<3>> &cells) const;
     /// Which boundary of body @p b a face is on (none: a step); @p zm its
     /// mean axial position.
     std::optional<Side>
@@ -189,20 +158,6 @@ namespace rotorfit
     void
     name_boundaries(dealii::Triangulation<3>                                   &tria,
                     std::map<dealii::types::boundary_id, std::set<std::string>> &names) const;
-    void
-    find_fits(std::vector<std::pair<double, double>> &zones) const;
-    std::vector<double>
-    axial_nodes(const std::vector<std::pair<double, double>> &zones) const;
-    std::vector<Chain>
-    make_chains() const;
-    void
-    radial_fractions(std::vector<Chain> &chains) const;
-    double
-    inner_radius(const Chain &c, const Section &s, const double z) const;
-    const Section &
-    section_at(const unsigned int body, const double z) const;
-    double
-    size_at(const double d_fit) const;
 
     unsigned int                                  n_theta = 24;
     double                                        h_max   = 8e-3;

@@ -28,8 +28,9 @@ namespace rotorfit
    * setup(); read-only afterwards, so the two solvers are peers that cannot
    * change what the other sees.
    *
-   * Parameters: subsections "Mesh", "Supports", the lists "Bodies" and
-   * "Interfaces" and their per-name subsections.
+   * Parameters: subsections "Mesh", "Supports", "Resources" (the memory
+   * the run may use), the lists "Bodies" and "Interfaces" and their
+   * per-name subsections.
    */
   class Discretization
   {
@@ -112,6 +113,14 @@ namespace rotorfit
     double
     outer_radius() const;
 
+    /// Memory this run may use [bytes] (Resources/Memory limit): the
+    /// model is refused above 90 % of it.
+    double
+    memory_limit() const
+    {
+      return memory_limit_bytes;
+    }
+
     MPI_Comm
     mpi_communicator() const
     {
@@ -135,6 +144,7 @@ namespace rotorfit
     Bodies                   body_list;
     ContactInterfaces        interface_list;
     std::vector<std::string> rollers;
+    double                   memory_limit_bytes = 0;
 
     std::unique_ptr<dealii::FESystem<3>> fe;
     dealii::DoFHandler<3>                dof_handler;

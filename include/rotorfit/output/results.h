@@ -1,6 +1,7 @@
 #pragma once
 
 #include <rotorfit/base/log.h>
+#include <rotorfit/contact/contact_solver.h>
 #include <rotorfit/modal/modal_analysis.h>
 #include <rotorfit/model/discretization.h>
 #include <rotorfit/output/paraview_output.h>
@@ -58,18 +59,28 @@ namespace rotorfit
       log.open_file(output_dir + "/log.txt", true);
     }
 
+    /// What a run writes besides its contact tables.
+    struct Contents
+    {
+      bool modes    = false; ///< the eigenproblem is solved (Eigenproblem/Compute modes)
+      bool response = false; ///< an unbalance response is solved (Unbalances)
+      /// exact: the contact events are written (contact_events.csv)
+      ContactSolver::Path speed_path = ContactSolver::Path::sampled;
+    };
+
     /// Open the tables: before the first speed.
     void
-    open(const Discretization &model, const bool with_modes, const bool with_response,
-         const bool with_events);
+    open(const Discretization &model, const Contents &contents);
 
-    /// The rows and files of a static state.
+    /// A speed's static state: contact.csv, pair_openings.csv,
+    /// contact_events.csv and the ParaView solution.
     void
-    add(const StaticState &state);
+    write_static_state(const StaticState &state);
 
-    /// The rows and files of the modes of @p state's speed.
+    /// The modes of @p state's speed: campbell.csv, critical_speeds.csv,
+    /// rigid_modes.csv and the ParaView mode shapes.
     void
-    add(const StaticState &state, const ModalResult &modes);
+    write_modes(const StaticState &state, const ModalResult &modes);
 
     /// Refuse Output/ParaView speeds that are not speeds of the run.
     void
@@ -82,33 +93,41 @@ namespace rotorfit
       return at_critical && (write_shapes || write_paraview);
     }
 
-    /// The files of a critical speed: its static state and modes.
+    /// The ParaView files of a critical speed: its static state and modes.
     void
-    add_critical(const StaticState &state, const ModalResult &modes);
+    write_critical_shapes(const StaticState &state, const ModalResult &modes);
 
-    /// Stability onsets found since the previous speed.
+    /// Stability onsets found since the previous speed: stability_onsets.csv.
     void
-    add(const std::vector<StabilityOnset> &found)
+    write_stability_onsets(const std::vector<StabilityOnset> &found)
     {
       stability.add(found);
     }
 
-    /// The unbalance response of a speed.
+    /// The unbalance response of a speed: response.csv.
     void
-    add(const ResponseAtSpeed &response)
+    write_response(const ResponseAtSpeed &response)
     {
       responses.add(response);
     }
 
-    /// The response peaks (response_peaks.csv), before finish().
+    /// The response peaks: response_peaks.csv, before finish().
     void
-    add(const std::vector<ResponsePeak> &peaks);
+    write_response_peaks(const std::vector<ResponsePeak> &peaks);
 
-    /// Write summary.txt, then draw campbell.png (which reads it).
+    /// Write summary.txt, then draw the pictures (which read it).
     void
     finish(const Summary &summary, const bool with_modes);
 
   private:
+    /// summary.txt: one "key value" line per entry.
+    void
+    write_summary(const Summary &summary) const;
+
+    /// The pictures of the tables written, with Output/Pictures.
+    void
+    draw_pictures(const bool with_modes);
+
     /// ParaView files at the @p index-th speed of the run, @p rpm.
     bool
     paraview_at(const unsigned int index, const double rpm) const;

@@ -15,12 +15,19 @@
 #include <deal.II/base/timer.h>
 
 #include <chrono>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 namespace rotorfit
 {
+  /// The names a .prm lists; each has its own subsection.
+  struct CaseNames
+  {
+    std::vector<std::string> bodies, interfaces, bearings, unbalances, probes;
+  };
+
   /**
    * A rotorfit run: a shrink-fitted assembly taken through its speeds. At
    * every speed the contact state of the fits is solved anew, then the
@@ -38,12 +45,6 @@ namespace rotorfit
    * Parameters: subsections "Speeds" and "Contact/On loss of fit", and
    * those of the members.
    */
-  /// The names a .prm lists; each has its own subsection.
-  struct CaseNames
-  {
-    std::vector<std::string> bodies, interfaces, bearings, unbalances, probes;
-  };
-
   class RotorProblem
   {
   public:
@@ -86,47 +87,29 @@ namespace rotorfit
     void
     setup();
 
+    /// Reads the case into a fresh handler: its file, then the command
+    /// line's --set overrides.
+    using CaseReader = std::function<void(dealii::ParameterHandler &)>;
+
+    /**
+     * Adaptive refinement (doc/theory.md 1.4), before setup(): Mesh
+     * refinement/Cycles runs of the case at its indicator speeds, each in
+     * <output>/cycle_<k>/, each refining the section mesh where its
+     * indicators are largest; this run then uses the last refinement.
+     * Returns the exit code of a cycle that stopped (its results stay in its
+     * folder), else exit_code::success. Nothing to do without cycles.
+     */
+    int
+    refine_mesh(const CaseReader &read_case);
+
     /// The speed sweep.
     void
     run();
 
-    /// Adaptive refinement (Mesh refinement): its parameters.
-    const MeshRefinement &
-    mesh_refinement() const
-    {
-      return refinement;
-    }
-
-    /// A refinement cycle: this mesh's added nodes, and collect the
-    /// indicators during run().
-    void
-    start_refinement_cycle(const SectionMesh::Refinement &r)
-    {
-      model.set_mesh_refinement(r);
-      collect_indicators = true;
-    }
-
-    /// The final run on the refined mesh; its log continues.
-    void
-    use_refinement(const SectionMesh::Refinement &r)
-    {
-      model.set_mesh_refinement(r);
-      results.reopen_log();
-    }
-
-    /// After a cycle's run(): the nodes of the next mesh.
-    SectionMesh::Refinement
-    refine() const
-    {
-      return refinement.refine(model, log);
-    }
-
-    /// DoFs of the mesh after setup().
-    dealii::types::global_dof_index
-    n_dofs() const
-    {
-      return model.dofs().n_dofs();
-    }
+    /// run(), then finish() with the run's status: the exit code (a
+    /// refusal during the sweep, InputError, is left to the caller).
+    int
+    run_and_finish();
 
     /// summary.txt (with @p status: completed, failed, interrupted,
     /// refused, and where and why it stopped), campbell.png and the timing.
@@ -150,6 +133,40 @@ namespace rotorfit
                   const std::string &message);
     void
     assemble_speed_independent_matrices();
+
+    /// Set up as refinement cycle @p c of @p main at the speeds @p list
+    /// [r/min], on the mesh with @p nodes added: the case read again, in
+    /// main's cycle_<c> folder, collecting indicators, without ParaView
+    /// files and pictures.
+    void
+    start_refinement_cycle(const RotorProblem            &main,
+                           const CaseReader              &read_case,
+                           const unsigned int             c,
+                           const std::string             &list,
+                           const SectionMesh::Refinement &nodes);
+
+    // the phases of a speed, each timed on its own
+    /// Before the first speed: the exact path ahead, the indicators reset.
+    void
+    start_sweep();
+    /// The contact state of the @p k-th speed, and its tables.
+    const StaticState &
+    solve_statics(const unsigned int k);
+    /// The modes, response, critical speeds and stability onsets at
+    /// @p state's speed.
+    void
+    solve_modes(const StaticState &state);
+    void
+    solve_response(const StaticState &state, const EigenSolution &solution);
+    void
+    analyse_modes(EigenSolution &&solution);
+    /// The crossings since the previous speed, with their mode shapes.
+    void
+    solve_critical_speeds(const StaticState &state);
+    void
+    write_modes(const StaticState &state);
+    void
+    find_stability_onsets(const StaticState &state);
     /// Mode shapes (and static state) at crossing @p i found at @p state's
     /// speed, of its root solve's @p solution (solved here if empty); called
     /// from within the root solve's timer section.
@@ -158,19 +175,6 @@ namespace rotorfit
     /// The log line of a finished speed (contact state, iterations, ETA).
     void
     log_speed(const StaticState &state);
-
-    /// One physical surface carrying two features (two fits, a bearing on
-    /// a fit) counts it twice.
-    void
-    check_surface_use() const;
-    /// The rim speed at the last speed against what any rotor survives
-    /// (refused), and each body's against the burst range of metal disks
-    /// (warned).
-    void
-    check_tip_speed() const;
-    /// Memory of the run's largest phase against the machine's.
-    void
-    check_resources() const;
 
     MPI_Comm                comm;
     Log                    &log;
@@ -185,8 +189,15 @@ namespace rotorfit
     UnbalanceResponse       response;
     Results                 results;
     MeshRefinement          refinement;
+    std::string             prm_directory; ///< where the .prm's relative names start
     bool                    collect_indicators = false;
-    bool                    stop_on_loss_of_fit = false;
+    /// What the sweep does once every fit is fully open (Contact/On loss of fit).
+    enum class OnLossOfFit
+    {
+      continue_sweep,
+      stop
+    };
+    OnLossOfFit on_loss_of_fit = OnLossOfFit::continue_sweep;
 
     // where the sweep is (progress(), finish())
     bool         assembled      = false;

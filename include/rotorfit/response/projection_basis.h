@@ -75,5 +75,25 @@ namespace rotorfit
       /// for all of them: the real and imaginary parts of a correction).
       bool
       add(std::vector<dealii::Vector<double>> xs);
+
+    private:
+      /// add() on a head: the columns @p x (of 2-norms @p norm0, replaced by
+      /// their M-norms) M-orthonormal to the head, the explicit columns and
+      /// each other.
+      void
+      add_m_orthonormal(std::vector<dealii::Vector<double>> &x, std::vector<double> &norm0);
+      /// add() without a head: orthonormal in the 2-norm, then their M
+      /// products.
+      void
+      add_orthonormal(std::vector<dealii::Vector<double>> &x, const std::vector<double> &norm0);
+      /// project(): the adopted columns from their kept projections.
+      void
+      project_adopted();
+      /// project(): the head's rows and columns of the columns from @p first.
+      void
+      project_on_head(const std::size_t first);
+      /// project(): the explicit columns' block from column @p first.
+      void
+      project_explicit(const std::size_t first);
   };
 } // namespace rotorfit

@@ -5,6 +5,7 @@
 #include <rotorfit/eigen/eigen_solution.h>
 #include <rotorfit/eigen/prestressed_eigenproblem.h>
 #include <rotorfit/model/station.h>
+#include <rotorfit/response/response_peaks.h>
 #include <rotorfit/statics/static_state.h>
 
 #include <deal.II/base/parameter_handler.h>
@@ -12,10 +13,13 @@
 #include <array>
 #include <complex>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace rotorfit
 {
+  struct ProjectionBasis;
+
   /// The steady unbalance response of one station at one speed: complex
   /// amplitudes of its averaged lateral displacement, x(t) = Re(X e^{i Omega t}).
   struct ProbeResponse
@@ -44,22 +48,6 @@ namespace rotorfit
     double       residual   = 0; ///< ||F - Z U|| / ||F|| of the full system
     unsigned int basis_size = 0;
     bool         converged  = true;
-  };
-
-  /// A resonance peak of one probe's response (API 684 reading).
-  struct ResponsePeak
-  {
-    std::string probe;
-    double      rpm = 0, amplitude = 0; ///< peak speed [r/min], major semi-axis [m]
-    double      low_rpm = 0, high_rpm = 0; ///< half-power speeds (nan: beyond the sweep)
-    double      amplification_factor = 0;  ///< rpm / (high - low)
-    double      separation_margin = 0;     ///< [%] from the operating range (nan: none given)
-    double      required_margin   = 0;     ///< [%], API 617 / 684 rule
-    /// At least three speeds at or above half power: otherwise the band is
-    /// narrower than the speed step, AF is a lower bound and the margin asked
-    /// for is taken at its cap.
-    bool        resolved = true;
-    std::string fit_state;
   };
 
   /**
@@ -152,12 +140,50 @@ namespace rotorfit
     finish(Summary &summary) const;
 
   private:
+    /// An unbalance mass of the list "Unbalances".
     struct Unbalance
     {
+      std::string name; ///< as listed (subsection "Unbalance <name>")
       Station station;
       double  mass_eccentricity = 0; ///< [kg m]
       double  phase             = 0; ///< [rad]
     };
+
+    /// The forcing of a speed: F Omega^2, Omega [rad/s] and ||F Omega^2||.
+    struct Load
+    {
+      const ComplexVector &f;
+      double               w    = 0;
+      double               norm = 0;
+    };
+
+    /// Solve @p load on the basis of operators @p o (the eigen reduced
+    /// basis if it has one, else @p modes), enriched until the residual
+    /// meets the tolerance: into @p u, with residual and basis size in
+    /// @p out; false if it did not converge.
+    bool
+    attempt(const PrestressedEigenproblem::SpeedOperators &o,
+            const std::vector<EigenPair>                   &modes,
+            const Load                                     &load,
+            ComplexVector                                  &u,
+            ResponseAtSpeed                                &out);
+
+    /// A fresh basis: the speed's modes (unless on the eigen reduced
+    /// basis) and the static correction S^-1 F_0.
+    void
+    start_basis(ProjectionBasis &basis, const std::vector<EigenPair> &modes);
+
+    /// Keep @p basis's explicit columns for the next speed on the same
+    /// @p head (if @p ok and few), else drop the kept ones; returns @p ok.
+    bool
+    keep(const ProjectionBasis                               &basis,
+         const std::pair<const ReducedBasis *, unsigned int> &head,
+         const bool                                           reuse,
+         const bool                                           ok);
+
+    /// Replace the kept products by @p next, carrying the checks' record.
+    void
+    rekeep(KeptProducts next);
 
     /// Full-space forcing per unit Omega^2 (replicated, complex).
     ComplexVector
@@ -171,7 +197,15 @@ namespace rotorfit
     Log                  &log;
 
     std::vector<Unbalance> unbalances;
-    std::vector<std::pair<std::string, Station>> probes; ///< name, station
+    /// A station whose response is read: a bearing, an unbalance or one of
+    /// the list "Probes".
+    struct Probe
+    {
+      std::string name;
+      Station     station;
+    };
+
+    std::vector<Probe>     probes;
     std::vector<double>    operating;
     double                 tolerance      = 1e-8;
     unsigned int           max_enrichment = 20;

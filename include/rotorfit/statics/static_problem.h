@@ -76,11 +76,12 @@ namespace rotorfit
       contact.release_factorization();
     }
 
-    /// The contact state follows the exact path in Omega^2 (events).
-    bool
-    exact_path() const
+    /// How the contact state follows the speed: the exact path in Omega^2
+    /// (events), or sampled at each speed.
+    ContactSolver::Path
+    speed_path() const
     {
-      return contact.path() == ContactSolver::Path::exact;
+      return contact.path();
     }
 
     /// Every fit fully open.

@@ -1,8 +1,8 @@
 #include <rotorfit/base/format.h>
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/base/resources.h>
-#include <rotorfit/mesh/section_mesh.h>
-#include <rotorfit/problem/rotor_problem.h>
+#include <rotorfit/problem/case_checks.h>
+#include <rotorfit/statics/speed_schedule.h>
 
 #include <deal.II/base/mpi.h>
 
@@ -12,96 +12,12 @@
 #include <map>
 #include <sstream>
 
-// RotorProblem, part 2: parameters, set-up and the input checks that need
-// the whole model. Part 1 (the run): rotor_problem.cc.
-
-namespace rotorfit
+namespace rotorfit::case_checks
 {
   using namespace dealii;
 
-  RotorProblem::RotorProblem(const MPI_Comm comm, Log &log)
-    : comm(comm)
-    , log(log)
-    , timer(timer_stream, TimerOutput::never, TimerOutput::wall_times)
-    , model(comm, log)
-    , statics(model, log, timer)
-    , eigen(model, log, timer)
-    , modal(log)
-    , onsets(log)
-    , response(model, log)
-    , results(comm, log)
-  {}
-
   void
-  RotorProblem::declare_parameters(ParameterHandler &prm, const CaseNames &names)
-  {
-    Discretization::declare_parameters(prm);
-    SpeedSchedule::declare_parameters(prm);
-    StaticProblem::declare_parameters(prm);
-    PrestressedEigenproblem::declare_parameters(prm);
-    ModalAnalysis::declare_parameters(prm);
-    Results::declare_parameters(prm);
-    MeshRefinement::declare_parameters(prm);
-    Bodies::declare_parameters(prm, names.bodies);
-    SectionMesh::declare_body_parameters(prm, names.bodies);
-    ContactInterfaces::declare_parameters(prm, names.interfaces);
-    Bearings::declare_parameters(prm, names.bearings);
-    UnbalanceResponse::declare_lists(prm);
-    UnbalanceResponse::declare_parameters(prm, names.unbalances, names.probes);
-    prm.enter_subsection("Contact");
-    prm.declare_entry("On loss of fit",
-                      "continue",
-                      Patterns::Selection("continue|stop"),
-                      "What the sweep does once every interface is fully "
-                      "open: 'continue' (loose bodies held by their "
-                      "cylindrical supports) or 'stop'.");
-    prm.leave_subsection();
-  }
-
-  void
-  RotorProblem::parse_parameters(ParameterHandler  &prm,
-                                 const std::string &prm_directory,
-                                 const std::string &output_override)
-  {
-    model.parse_parameters(prm, prm_directory);
-    speeds.parse_parameters(prm);
-    statics.parse_parameters(prm);
-    eigen.parse_parameters(prm, prm_directory, statics.spin_softening_on());
-    modal.parse_parameters(prm);
-    response.parse_parameters(prm, eigen.enabled());
-    results.parse_parameters(prm, output_override);
-    results.check_speeds(speeds.speeds_rpm());
-    refinement.parse_parameters(prm, model.mesh().hexahedral());
-    prm.enter_subsection("Contact");
-    stop_on_loss_of_fit = prm.get("On loss of fit") == "stop";
-    prm.leave_subsection();
-    check_surface_use();
-  }
-
-  void
-  RotorProblem::setup()
-  {
-    // what the parsers accepted but found suspect, now that the log is open
-    for (const auto *list : {&model.bodies().warnings(), &speeds.warnings()})
-      for (const auto &w : *list)
-        log << "Warning: " << w << ".\n";
-    model.setup(timer);
-    check_tip_speed();
-    eigen.setup();
-    if (eigen.enabled())
-      modal.setup(model);
-    if (eigen.enabled() && model.element_order() == 1)
-      log << "Warning: Geometry/Element order = 1: linear elements lock in bending (a "
-             "free-free cylinder's first bending frequency comes out 8 % high on hexahedra, "
-             "13 % on tetrahedra) and, under the quadratic geometry, miss rigid motions on "
-             "curved cells (spurious modes far below the first bending mode); set it to 2 "
-             "for the eigenproblem (doc/limits.md).\n";
-    response.setup(eigen.bearing_list());
-    check_resources();
-  }
-
-  void
-  RotorProblem::check_surface_use() const
+  surface_use(const Discretization &model, const Bearings &bearings, Log &log)
   {
     // two interfaces on one surface halve the contact pressure, two
     // bearings on one face double the stiffness: refused. An axial roller
@@ -122,7 +38,7 @@ namespace rotorfit
         if (f.hub_surface != f.shaft_surface)
           claim(f.hub_surface, "Interface " + f.name, one_interface);
       }
-    for (const auto &b : eigen.bearing_list().list())
+    for (const auto &b : bearings.list())
       if (!b.station.is_band()) // a band is checked against the fits on the mesh
       claim(b.station.surface, "Bearing " + b.name,
             "a bearing acts on a shaft surface of its own (a fit surface is "
@@ -138,13 +54,12 @@ namespace rotorfit
   }
 
   void
-  RotorProblem::check_tip_speed() const
+  tip_speed(const Discretization &model, const double rpm, Log &log)
   {
     // A speed range that no rotor survives is a units slip (rad/s, Hz or
     // r/min): the rim speed of the largest radius against 2,000 m/s, about
     // twice the burst speed of the strongest metal disks.
     const double r_max = model.outer_radius();
-    const double rpm   = speeds.speeds_rpm().back();
     const double tip   = SpeedSchedule::rpm_to_rad_per_s(rpm) * r_max;
     if (tip > 2000)
       {
@@ -186,9 +101,12 @@ namespace rotorfit
   }
 
   void
-  RotorProblem::check_resources() const
+  resources(const Discretization          &model,
+            const PrestressedEigenproblem &eigen,
+            const MPI_Comm                 comm,
+            Log                           &log)
   {
-    using namespace resources;
+    using namespace rotorfit::resources;
     const double n       = model.dofs().n_dofs();
     const double statics = factorization_bytes(n, true) + 3 * sparse_matrix_bytes(n);
     double       modes   = 0;
@@ -200,7 +118,7 @@ namespace rotorfit
               Utilities::MPI::n_mpi_processes(comm) * eigen.state_vectors_needed(n) * 2 * n * 8.;
     const double peak = std::max(statics, modes);
     // rank 0 decides for all (ranks may see other environments or nodes)
-    const double limit = Utilities::MPI::broadcast(comm, physical_memory_bytes(), 0);
+    const double limit = Utilities::MPI::broadcast(comm, model.memory_limit(), 0);
     log << "Memory estimate: " << gigabytes(peak) << " at the peak ("
         << (modes > statics ? "eigenproblem" : "static solve") << "), machine "
         << gigabytes(limit) << '\n';
@@ -210,8 +128,8 @@ namespace rotorfit
                        (modes > statics ? "the eigenproblem's LU and Krylov space" :
                                           "the static factorisation") +
                        ") but this run may use " + gigabytes(limit) +
-                       " (the machine's memory, or ROTORFIT_MEMORY_GB)" +
+                       " (Resources/Memory limit)" +
                        "; coarsen the mesh, or lower Eigenproblem/Number of modes or Krylov "
                        "size factor.");
   }
-} // namespace rotorfit
+} // namespace rotorfit::case_checks
