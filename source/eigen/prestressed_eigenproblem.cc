@@ -1,22 +1,13 @@
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/eigen/prestressed_eigenproblem.h>
-#include <rotorfit/linear_algebra/matrix_pattern.h>
-#include <rotorfit/linear_algebra/replicated_blocks.h>
 #include <rotorfit/statics/speed_schedule.h>
-
-#include <deal.II/base/mpi.h>
-#include <deal.II/base/utilities.h>
 
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
-#include <map>
-#include <numeric>
-#include <set>
 #include <sstream>
 
-// PrestressedEigenproblem, part 1: parameters, set-up, the matrices of a
-// speed. Part 2 (the solve and what is set apart): prestressed_solve.cc.
+// The conductor of the eigen room: which of the reduced model, an undamped
+// anchor or the full solve serves a speed, and the totals of a run.
 
 namespace rotorfit
 {
@@ -28,7 +19,15 @@ namespace rotorfit
     : model(model)
     , log(log)
     , timer(timer)
-    , comm(model.mpi_communicator())
+    , tangent(model, bearings, timer)
+    , classifier(model, bearings, tangent.settings, eigensolver, log)
+    , self_checks(model, log)
+    , ties(model, bearings, tangent)
+    , reduced(tangent, bearings)
+    , estimates(reduced, tangent, eigensolver, bearings, log)
+    , anchor(model, reduced, estimates, ties, tangent, eigensolver, bearings, log, timer)
+    , reduced_solve(reduced, estimates, tangent, eigensolver, classifier, log)
+    , full(model, tangent, eigensolver, classifier, log, timer)
   {}
 
   void
@@ -106,34 +105,36 @@ namespace rotorfit
     eigensolver.parse_parameters(prm);
     reduced.parse_parameters(prm);
     prm.enter_subsection("Eigenproblem");
-    static_spin_softening = spin_softening;
+    auto &settings                 = tangent.settings;
+    settings.static_spin_softening = spin_softening;
     compute  = prm.get_bool("Compute modes");
     n_wanted = prm.get_integer("Number of modes");
     const std::string model_name = prm.get("Contact model");
-    contact_model = model_name == "bonded"       ? ContactModel::bonded :
-                    model_name == "frictionless" ? ContactModel::frictionless :
-                    model_name == "fixed"        ? ContactModel::fixed :
-                                                   ContactModel::frozen;
-    contact_scale = prm.get_double("Contact penalty scale");
+    settings.contact_model = model_name == "bonded"       ? ContactModel::bonded :
+                             model_name == "frictionless" ? ContactModel::frictionless :
+                             model_name == "fixed"        ? ContactModel::fixed :
+                                                            ContactModel::frozen;
+    settings.contact_scale = prm.get_double("Contact penalty scale");
     const std::string s = prm.get("Stress stiffening");
-    stiffening = s == "off"               ? StressStiffening::off :
-                 s == "interference only" ? StressStiffening::interference :
-                                            StressStiffening::full;
-    rigid_threshold_hz = prm.get_double("Rigid-body threshold");
-    convective_term    = prm.get_bool("Convective stiffness");
-    self_check         = prm.get_bool("Self-check");
+    settings.stiffening = s == "off"               ? StressStiffening::off :
+                          s == "interference only" ? StressStiffening::interference :
+                                                     StressStiffening::full;
+    classifier.n_wanted           = n_wanted;
+    classifier.rigid_threshold_hz = prm.get_double("Rigid-body threshold");
+    settings.convective_term      = prm.get_bool("Convective stiffness");
+    self_check                    = prm.get_bool("Self-check");
     prm.leave_subsection();
 
     // normal-only ties with pre-stress give spurious twist and tilt modes,
     // some unstable (doc/theory.md 7.4): refuse rather than plot them
-    if (compute && contact_model == ContactModel::frictionless &&
-        stiffening != StressStiffening::off)
+    if (compute && settings.contact_model == ContactModel::frictionless &&
+        settings.stiffening != StressStiffening::off)
       throw InputError(
         "Eigenproblem/Contact model = frictionless with Stress stiffening = '" +
         s + "' produces spurious twist and tilt modes (some unstable) because "
             "normal-only ties carry no contact geometric stiffness; use "
             "Contact model = bonded, or Stress stiffening = off.");
-    if (compute && spin_softening && stiffening == StressStiffening::interference)
+    if (compute && spin_softening && settings.stiffening == StressStiffening::interference)
       throw InputError("Eigenproblem/Stress stiffening = interference only needs "
                        "Physics/Spin softening = false (with spin softening "
                        "the static solution does not split into interference "
@@ -146,95 +147,22 @@ namespace rotorfit
     if (!compute)
       return;
     const auto &dof_handler = model.dofs();
-    const auto &fe          = dof_handler.get_fe();
     bearings.setup(model, log);
-
-    body_of_dof.assign(dof_handler.n_dofs(), 0);
-    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      {
-        cell->get_dof_indices(dofs);
-        for (const auto d : dofs)
-          body_of_dof[d] = cell->material_id();
-      }
-
-    // one pattern for every matrix: cells, all pairs in all directions (any
-    // contact model), bearing blocks; no static supports (doc/theory.md P7)
-    DynamicSparsityPattern sparsity(dof_handler.n_dofs(), dof_handler.n_dofs(),
-                                    model.locally_owned_dofs());
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      {
-        cell->get_dof_indices(dofs);
-        for (const auto d : dofs)
-          sparsity.add_entries(d, dofs.begin(), dofs.end());
-      }
-    for (const auto &p : model.pairs().pairs())
-      {
-        std::vector<types::global_dof_index> d(p.shaft_dofs.begin(), p.shaft_dofs.end());
-        d.insert(d.end(), p.hub_dofs.begin(), p.hub_dofs.end());
-        std::sort(d.begin(), d.end());
-        for (const auto i : d)
-          sparsity.add_entries(i, d.begin(), d.end(), true);
-      }
-    bearings.add_sparsity(sparsity);
-    // M, G, K_theta and K_sigma couple each displacement component only with
-    // itself: a third of the entries (58 -> 21 MB a matrix on TS's benchmark
-    // mesh, and a third of the work of each product); C = Omega G + C_b
-    // adds the bearing blocks
-    DynamicSparsityPattern component(dof_handler.n_dofs(), dof_handler.n_dofs(),
-                                     model.locally_owned_dofs());
-    {
-      const unsigned int        n = fe.n_dofs_per_cell();
-      std::vector<unsigned int> comp(n);
-      for (unsigned int i = 0; i < n; ++i)
-        comp[i] = fe.system_to_component_index(i).first;
-      std::vector<types::global_dof_index> same;
-      for (const auto &cell : dof_handler.active_cell_iterators())
-        {
-          cell->get_dof_indices(dofs);
-          for (unsigned int c = 0; c < fe.n_components(); ++c)
-            {
-              same.clear();
-              for (unsigned int i = 0; i < n; ++i)
-                if (comp[i] == c)
-                  same.push_back(dofs[i]);
-              std::sort(same.begin(), same.end());
-              for (const auto d : same)
-                component.add_entries(d, same.begin(), same.end(), true);
-            }
-        }
-    }
-    matrices.reinit(model.locally_owned_dofs(), sparsity, comm, &component);
-    matrices.reinit_like(tangent);
-    made_for = {};
-    bearings.add_sparsity(component);
-    damping.reinit(model.locally_owned_dofs(), model.locally_owned_dofs(), component, comm);
-    // the bearing matrices on their stations' blocks alone (a subset of the
-    // pattern above): not two more copies of the full pattern, and their
-    // products and projections cost next to nothing
-    {
-      DynamicSparsityPattern stations(dof_handler.n_dofs(), dof_handler.n_dofs(),
-                                      model.locally_owned_dofs());
-      bearings.add_sparsity(stations);
-      // and the diagonal: deal.II walks an empty row of a
-      // DynamicSparsityPattern by searching ahead for the next entry, which
-      // made this quadratic in the DOFs (4 s on TS's benchmark mesh)
-      for (const auto i : model.locally_owned_dofs())
-        stations.add(i, i);
-      for (auto *m : {&bearing_k, &bearing_c})
-        m->reinit(model.locally_owned_dofs(), model.locally_owned_dofs(), stations, comm);
-    }
+    classifier.setup();
+    tangent.setup();
 
     // more modes than the model has
     std::vector<bool>  loose;
     const std::size_t  n_pairs = model.pairs().pairs().size();
-    const unsigned int zeros   = expected_zero_modes(std::vector<bool>(n_pairs, true), loose);
+    const unsigned int zeros   = classifier.expected_zero_modes(std::vector<bool>(n_pairs, true), loose);
     const std::size_t  nev     = 2 * n_wanted + 2 * zeros + 1;
     // the most eigenvalues a speed may ask for: every fit open (each body
     // its own rigid group), plus what a retry adds
-    const unsigned int loose_zeros = expected_zero_modes(std::vector<bool>(n_pairs, false), loose);
+    const unsigned int loose_zeros =
+      classifier.expected_zero_modes(std::vector<bool>(n_pairs, false), loose);
+    const ReducedBasis &basis = reduced.basis();
     max_nev = 2 * n_wanted + 2 * std::max(zeros, loose_zeros) + 1 + 2 * n_wanted +
-              (reduced.enabled() ? 2 * reduced.margin() : 0);
+              (basis.enabled() ? 2 * basis.margin() : 0);
     if (nev + 3 > 2 * dof_handler.n_dofs())
       throw InputError("Eigenproblem/Number of modes = " + std::to_string(n_wanted) +
                        " needs " + std::to_string(nev) +
@@ -242,15 +170,16 @@ namespace rotorfit
                        std::to_string(2 * dof_handler.n_dofs()) +
                        " (2 x DOFs); ask for fewer modes or refine the mesh.");
 
+    const auto &settings = tangent.settings;
     log << "Eigenproblem: " << n_wanted << " modes per speed, contact model "
-        << (contact_model == ContactModel::bonded       ? "bonded" :
-            contact_model == ContactModel::frictionless ? "frictionless" :
-            contact_model == ContactModel::fixed        ? "fixed" : "frozen")
-        << (convective_term ? "" : ", NO convective stiffness (K_sigma alone, for comparison)")
+        << (settings.contact_model == ContactModel::bonded       ? "bonded" :
+            settings.contact_model == ContactModel::frictionless ? "frictionless" :
+            settings.contact_model == ContactModel::fixed        ? "fixed" : "frozen")
+        << (settings.convective_term ? "" : ", NO convective stiffness (K_sigma alone, for comparison)")
         << ", stress stiffening "
-        << (stiffening == StressStiffening::off          ? "off" :
-            stiffening == StressStiffening::interference ? "interference only" :
-                                                           "interference + centrifugal")
+        << (settings.stiffening == StressStiffening::off          ? "off" :
+            settings.stiffening == StressStiffening::interference ? "interference only" :
+                                                                    "interference + centrifugal")
         << ", shift " << eigensolver.shift() / (2 * M_PI) << " Hz, "
         << bearings.size() << " bearing(s)\n";
     // every coefficient: a cross-coupled bearing must be checkable here
@@ -275,277 +204,328 @@ namespace rotorfit
     if (!compute)
       return;
     TimerOutput::Scope t(timer, "eigen: assembly (M, K, G, K_theta)");
-    matrices.assemble(model.dofs(), model.mesh().mapping(), model.mesh().cell_quadrature(), model.bodies());
-    // K_theta enters only as K_t2 = K_sigma(u_C) - K_theta where every
-    // state is affine: it is assembled into K_sigma(u_C) with it, and its
-    // own matrix (58 MB on TS's benchmark mesh) is freed after the
-    // self-check has taken what it needs of it
-    convective_folded =
-      stiffening == StressStiffening::full && convective_term && !static_spin_softening;
-    if (self_check)
-      {
-        const auto fields = check_fields();
-        const auto energy = [&](const Vector<double> &v) {
-          Vector<double> Av;
-          replicated_vmult(matrices.convective, v, Av);
-          return v * Av;
-        };
-        check_theta_tilt  = energy(fields[0]);
-        check_theta_twist = energy(fields[1]);
-      }
-    if (convective_folded)
-      matrices.convective.clear();
+    tangent.assemble_speed_independent([&](const RotorMatrices &matrices) {
+      if (self_check)
+        self_checks.record_convective(matrices);
+    });
   }
 
   unsigned int
-  PrestressedEigenproblem::expected_zero_modes(const std::vector<bool> &tied,
-                                    std::vector<bool>       &loose_body) const
+  PrestressedEigenproblem::begin_speed(const StaticState &state,
+                                       EigenSolution     &solution,
+                                       std::vector<bool> &loose_body)
   {
-    const unsigned int n_bodies = model.bodies().size();
-    std::vector<unsigned int> group(n_bodies);
-    std::iota(group.begin(), group.end(), 0);
-    const auto find = [&](unsigned int b) {
-      while (group[b] != b)
-        b = group[b];
-      return b;
-    };
-    const auto        &list = model.pairs().pairs();
-    std::set<unsigned int> sliding_hubs;
-    for (unsigned int i = 0; i < list.size(); ++i)
-      if (tied[i])
-        {
-          const unsigned int s = body_of_dof[list[i].shaft_dofs[0]],
-                             h = body_of_dof[list[i].hub_dofs[0]];
-          group[find(h)] = find(s);
-          sliding_hubs.insert(h);
-        }
-    // distinct bearing stations per group decide which rigid motions remain
-    std::map<unsigned int, std::set<long>> stations_of;
-    for (const auto &b : bearings.list())
-      if (!b.station.dof_x.empty())
-        stations_of[find(body_of_dof[b.station.dof_x[0]])].insert(
-          std::lround(b.station.z * 1e6));
-    unsigned int main = find(0), best = 0;
-    for (const auto &[g, s] : stations_of)
-      if (s.size() > best)
-        {
-          best = s.size();
-          main = g;
-        }
-    unsigned int zeros = 0;
-    std::set<unsigned int> groups;
-    loose_body.assign(n_bodies, false);
-    for (unsigned int b = 0; b < n_bodies; ++b)
+    solution.rpm   = state.rpm;
+    solution.index = state.index;
+    solution.tied  = tangent.tied_pairs(state);
+    // isotropic supports keep the rotor axisymmetric: [[k, q], [-q, k]]
+    for (unsigned int n = 0; n < bearings.size(); ++n)
       {
-        groups.insert(find(b));
-        loose_body[b] = !stations_of.empty() && find(b) != main;
+        Bearings::Coefficients k, c;
+        bearings.coefficients(n, state.rpm, k, c);
+        for (const auto &a : {k, c})
+          if (a[0] != a[1] || a[2] != -a[3])
+            solution.isotropic_supports = false;
       }
-    for (const auto g : groups)
-      {
-        const std::size_t n = stations_of.count(g) ? stations_of[g].size() : 0;
-        zeros += n == 0 ? 6 : n == 1 ? 4 : 2; // axial and twist always free
-      }
-    // normal-only ties leave relative axial sliding and twist (doc/theory.md 7.4)
-    if (contact_model == ContactModel::frictionless)
-      zeros += 2 * sliding_hubs.size();
-    return zeros;
-  }
-
-  void
-  PrestressedEigenproblem::assemble_tangent(const StaticState &state, const std::vector<bool> &tied)
-  {
-    TimerOutput::Scope t(timer, "eigen: tangent (K_sigma, ties, bearings)");
-    ++tangent_serial;
-    const double w = state.w(), omega = SpeedSchedule::rpm_to_rad_per_s(state.rpm);
-    // on the last tangent's contact segment (the same ties, K_sigma parts
-    // and bearing coefficients) only the speed's own share changes:
-    // K_t += (w - w_t) K_t2, C += (Omega - Omega_t) G, two passes over a
-    // pattern instead of six (a fifth of a reduced speed on TS)
-    const bool same_segment =
-      made_for.valid && tied == made_for.tied && !bearings.speed_dependent() &&
-      (stiffening == StressStiffening::off ||
-       (state.decomposition().affine && state.decomposition().serial == k_sigma_serial));
-    if (same_segment)
-      {
-        if (stiffening == StressStiffening::full)
-          {
-            add_subset(tangent, w - made_for.w, k_sigma_C);
-            if (convective_term && !convective_folded)
-              add_subset(tangent, made_for.w - w, matrices.convective);
-          }
-        add_subset(damping, omega - made_for.omega, matrices.gyroscopic);
-        made_for.w     = w;
-        made_for.omega = omega;
-        return;
-      }
-    made_for = {true, tied, w, omega};
-    ++segment_serial;
-    if (bearings.speed_dependent() || speeds_done == 0)
-      {
-        bearing_k = 0;
-        bearing_c = 0;
-        bearings.assemble(state.rpm, bearing_k, bearing_c);
-      }
-
-    // K_t = (K + K_sigma(u_I)) + K_b + K_c (+ w K_sigma(u_C) - w K_theta)
-    if (stiffening != StressStiffening::off)
-      update_stiffness(state);
-    MatCopy(matrices.stiffness, tangent, SAME_NONZERO_PATTERN);
-    add_subset(tangent, 1., bearing_k);
-    if (stiffening == StressStiffening::full)
-      {
-        if (state.decomposition().affine)
-          add_subset(tangent, w, k_sigma_C);
-        if (convective_term && !convective_folded) // (folded: in k_sigma_C)
-          add_subset(tangent, -w, matrices.convective);
-      }
-    add_contact_ties(state, tied);
-    tangent.compress(VectorOperation::add);
-
-    // C = C_b + Omega G
-    damping = 0;
-    add_subset(damping, omega, matrices.gyroscopic);
-    add_subset(damping, 1., bearing_c);
-  }
-
-  void
-  PrestressedEigenproblem::update_stiffness(const StaticState &state)
-  {
-    // matrices.stiffness holds K + K_sigma(u_s), u_s = stiffened_by (the
-    // active set's u_I; with spin softening the whole u of the speed).
-    // K_sigma is linear in u: a new static state adds K_sigma(u - u_s),
-    // assembled in the tangent's storage (made afresh right after), so
-    // K_sigma(u_I) needs no matrix of its own (58 MB on TS's benchmark mesh).
-    // The sum collects the rounding of one addition per contact segment.
-    const auto &decomposition = state.decomposition();
-    if (decomposition.affine && decomposition.serial == k_sigma_serial)
-      return;
-    const auto    &dofs   = model.dofs();
-    const IndexSet all    = complete_index_set(dofs.n_dofs());
-    const auto    &owned  = model.locally_owned_dofs();
-    PETScWrappers::MPI::Vector u(owned, all, comm), before(owned, all, comm);
-    {
-      PETScWrappers::MPI::Vector b(owned, comm);
-      if (stiffened_by.size() > 0)
-        for (const auto i : owned)
-          b(i) = stiffened_by[i];
-      b.compress(VectorOperation::insert);
-      before = b;
-    }
-    const auto &mesh = model.mesh();
-    if (decomposition.affine)
-      {
-        // K_sigma is linear in u = u_I + w u_C: two parts per active set
-        PETScWrappers::MPI::Vector u_C(owned, all, comm);
-        u   = decomposition.u_I;
-        u_C = decomposition.u_C;
-        matrices.assemble_stress_stiffness(dofs, mesh.mapping(), mesh.cell_quadrature(),
-                                           model.bodies(), {&u, &u_C}, {&tangent, &k_sigma_C},
-                                           {&before, nullptr}, {false, convective_folded});
-        k_sigma_serial = decomposition.serial;
-      }
-    else
-      {
-        // the whole solution at this speed (the tangent is exact there)
-        state.displacement(u);
-        matrices.assemble_stress_stiffness(dofs, mesh.mapping(), mesh.cell_quadrature(),
-                                           model.bodies(), {&u}, {&tangent}, {&before});
-        k_sigma_serial = 0;
-      }
-    MatAXPY(matrices.stiffness, 1., tangent, SAME_NONZERO_PATTERN);
-    stiffened_by.reinit(dofs.n_dofs());
-    for (types::global_dof_index i = 0; i < dofs.n_dofs(); ++i)
-      stiffened_by[i] = u[i];
-  }
-
-  void
-  PrestressedEigenproblem::add_contact_ties(const StaticState &state, const std::vector<bool> &tied)
-  {
-    // on the locally owned rows; bonded: eps (u_h - u_s) in every
-    // direction; frictionless: eps n n^T on the radial direction only
-    const auto  &list        = model.pairs().pairs();
-    const auto   range       = tangent.local_range();
-    const bool   normal_only = contact_model == ContactModel::frictionless;
-    for (unsigned int i = 0; i < list.size(); ++i)
-      if (tied[i])
-        {
-          const auto  &p   = list[i];
-          const double eps = tie_spring(state, i);
-          for (unsigned int a = 0; a < 3; ++a)
-            for (unsigned int c = 0; c < 3; ++c)
-              {
-                double k = normal_only ? (a < 2 && c < 2 ? p.normal[a] * p.normal[c] : 0.) :
-                                         (a == c ? 1. : 0.);
-                if (k == 0)
-                  continue;
-                k *= eps;
-                const std::pair<types::global_dof_index, double> rows[2] = {
-                  {p.hub_dofs[a], 1.}, {p.shaft_dofs[a], -1.}};
-                const std::pair<types::global_dof_index, double> cols[2] = {
-                  {p.hub_dofs[c], 1.}, {p.shaft_dofs[c], -1.}};
-                for (const auto &[r, sr] : rows)
-                  if (r >= range.first && r < range.second)
-                    for (const auto &[col, sc] : cols)
-                      tangent.add(r, col, sr * sc * k);
-              }
-        }
+    tangent.assemble(state, solution.tied, speeds_done == 0);
+    last_rpm      = state.rpm;
+    speed_reduced = false;
+    if (self_check && self_checks.pending() && state.rpm > 0)
+      self_checks.check(state, tangent);
+    const unsigned int zeros = classifier.expected_zero_modes(solution.tied, loose_body);
+    return 2 * n_wanted + 2 * zeros + 1;
   }
 
   bool
-  PrestressedEigenproblem::tie_update(const StaticState                       &state,
-                                      const std::vector<bool>                 &tied,
-                                      std::vector<DirectSolver::UpdateColumn> &columns) const
+  PrestressedEigenproblem::solve_trial(const StaticState &state, EigenSolution &solution)
   {
-    columns.clear();
-    const auto &solver = eigensolver.linear_solver();
-    // (bearing coefficients that change with speed: S would lack their change)
-    if (!solver.factorized() || solver.n_factorizations() != factor_ties.factorizations ||
-        bearings.speed_dependent())
+    // only where the speed's own solve left a basis of this tied set
+    if (!reduced.basis().enabled() || reduced.basis().size() == 0 ||
+        tangent.tied_pairs(state) != basis_tied)
       return false;
-    // a fit that lets go of its last tie frees a body (or the factorised
-    // one had it free): its rigid motions then rest on sigma^2 M alone, some
-    // 1e14 below the ties' springs, more than the Woodbury sum keeps (TS at
-    // the loss of fit: no mode converged)
+    solution = EigenSolution();
+    std::vector<bool>  loose_body;
+    const unsigned int nev = begin_speed(state, solution, loose_body);
+    std::string        unused;
+    TimerOutput::Scope t(timer, "eigen: reduced model");
+    double             worst = 0; // (a trial's backward errors are not checked)
+    if (!reduced_solve.solve(state, loose_body, nev, solution, unused, false, worst))
+      return false;
+    ++reduced_trials;
+    if (solution.elastic.size() > n_wanted)
+      solution.elastic.resize(n_wanted);
+    return true;
+  }
+
+  EigenSolution
+  PrestressedEigenproblem::solve(const StaticState &state)
+  {
+    EigenSolution     solution;
+    std::vector<bool> loose_body;
+    unsigned int      nev = begin_speed(state, solution, loose_body);
+
+    bool margin_pays = false;
+    if (reduced.basis().enabled())
+      {
+        if (solve_on_basis(state, loose_body, nev, solution, margin_pays))
+          return solution;
+        // the anchor's margin: modes that may move into the wanted range
+        if (margin_pays)
+          nev = std::min<unsigned int>(nev + 2 * reduced.basis().margin(),
+                                       2 * model.dofs().n_dofs() - 3);
+      }
+
+    // the reduced products serve no full solve and its anchor makes them
+    // stale: free them before the factorisation, the memory peak
+    reduced.free_products();
+    const double worst = full.solve(state, loose_body, nev,
+                                    reduced.basis().enabled() ? &anchor : nullptr, margin_pays,
+                                    solution);
+    if (solution.elastic.size() > n_wanted)
+      solution.elastic.resize(n_wanted);
+    warn_far_shift(solution, state.rpm);
+    classifier.announce_loose_bodies(state, loose_body);
+    worst_backward_error = std::max(worst_backward_error, worst);
+    ++speeds_done;
+    return solution;
+  }
+
+  bool
+  PrestressedEigenproblem::solve_on_basis(const StaticState       &state,
+                                          const std::vector<bool> &loose_body,
+                                          const unsigned int       nev,
+                                          EigenSolution           &solution,
+                                          bool                    &margin_pays)
+  {
+    // a contact segment (tied set) of its own starts a new basis. A set
+    // that just changed with every fit part open, part closed is likely
+    // to change again at the next speed (a fit opening gradually): its
+    // anchor skips the margin. Fits wholly closed or wholly open last.
     const auto &pair_list = model.pairs();
-    for (unsigned int f = 0; f < pair_list.n_interfaces(); ++f)
+    bool        settled   = true;
+    for (unsigned int i = 0; i < pair_list.n_interfaces(); ++i)
       {
-        bool then = false, now = false;
-        for (const unsigned int p : pair_list.pairs_of(f))
-          then |= factor_ties.eps[p] > 0, now |= tied[p];
-        if (then != now)
-          return false;
+        const auto &ids = pair_list.pairs_of(i);
+        const auto  n_tied =
+          std::count_if(ids.begin(), ids.end(), [&](unsigned int p) { return solution.tied[p]; });
+        settled &= n_tied == 0 || n_tied == static_cast<long>(ids.size());
       }
-    // the springs add_contact_ties() puts in: eps n n^T on the radial
-    // direction (frictionless), eps in every direction (bonded), on the
-    // relative motion of the pair's hub and shaft nodes
-    const auto &list        = model.pairs().pairs();
-    const bool  normal_only = contact_model == ContactModel::frictionless;
-    for (unsigned int i = 0; i < list.size(); ++i)
+    margin_pays = solution.tied == basis_tied || basis_tied.empty() || settled;
+    if (solution.tied != basis_tied)
       {
-        const double now    = tied[i] ? tie_spring(state, i) : 0.;
-        const double spring = now - factor_ties.eps[i];
-        if (spring == 0)
-          continue;
-        const auto &p = list[i];
-        for (unsigned int d = 0; d < (normal_only ? 1u : 3u); ++d)
+        reduced.clear();
+        basis_tied = solution.tied;
+      }
+    std::string why;
+    bool        done = false;
+    {
+      TimerOutput::Scope t(timer, "eigen: reduced model");
+      done = reduced_solve.solve(state, loose_body, nev, solution, why, true, worst_backward_error);
+    }
+    if (done)
+      {
+        served(state, loose_body, solution, reduced_solves);
+        return true;
+      }
+    if (reduced.basis().size() > 0)
+      {
+        ++reduced_refusals;
+        log << "  eigen: reduced model refused at " << state.rpm << " r/min (" << why
+            << "): full solve, a new anchor\n";
+      }
+    // an undamped anchor where K_t is symmetric (LDL^T instead of LU)
+    return reduced.basis().undamped_anchors() && bearings.symmetric(state.rpm, false) &&
+           solve_on_undamped_anchor(state, loose_body, nev, margin_pays, solution, why);
+  }
+
+  bool
+  PrestressedEigenproblem::solve_on_undamped_anchor(const StaticState       &state,
+                                                    const std::vector<bool> &loose_body,
+                                                    const unsigned int       nev,
+                                                    const bool               lasting,
+                                                    EigenSolution           &solution,
+                                                    std::string             &why)
+  {
+    // on the last LDL^T where few ties changed since (a fit opening
+    // pair by pair), else on a new one
+    std::vector<DirectSolver::UpdateColumn> columns;
+    const unsigned int                      limit = reduced.basis().tie_update_limit();
+    if (limit > 0 &&
+        ties.columns(eigensolver.linear_solver(), state, solution.tied, limit, columns))
+      {
+        const std::size_t anchors_before = reduced.basis().anchors.size();
+        if (anchor_and_solve(state, loose_body, nev, lasting, solution, why, true))
           {
-            DirectSolver::UpdateColumn u;
-            u.key    = 3 * i + d;
-            u.spring = spring;
-            for (unsigned int a = 0; a < 3; ++a)
-              {
-                const double v = normal_only ? (a < 2 ? p.normal[a] : 0.) : (a == d ? 1. : 0.);
-                if (v != 0)
-                  {
-                    u.entries.emplace_back(p.hub_dofs[a], v);
-                    u.entries.emplace_back(p.shaft_dofs[a], -v);
-                  }
-              }
-            columns.push_back(std::move(u));
+            ++ties.anchors;
+            served(state, loose_body, solution, undamped_served);
+            return true;
           }
-        if (columns.size() > reduced.tie_update_limit())
-          return false;
+        ++ties.anchors_refused;
+        log << "  eigen: undamped anchor on the tie update refused at " << state.rpm
+            << " r/min (" << why << "): a new LDL^T\n";
+        // its vectors stay in the basis, the new anchor's join them
+        // (TS at 23,900 r/min: the two together serve the speed,
+        // the new anchor's alone do not, and the speed would need
+        // the damped full solve, its LU the 301-speed run's peak);
+        // its coverage claim goes (the checks refused it)
+        reduced.keep_anchors(anchors_before);
       }
-    return !columns.empty();
+    if (anchor_and_solve(state, loose_body, nev, lasting, solution, why, false))
+      {
+        served(state, loose_body, solution, undamped_served);
+        return true;
+      }
+    ++undamped_refused;
+    log << "  eigen: undamped anchor at " << state.rpm << " r/min refused (" << why
+        << "): the damped full solve\n";
+    return false;
+  }
+
+  bool
+  PrestressedEigenproblem::anchor_and_solve(const StaticState       &state,
+                                            const std::vector<bool> &loose_body,
+                                            const unsigned int       nev,
+                                            const bool               lasting,
+                                            EigenSolution           &solution,
+                                            std::string             &why,
+                                            const bool               on_update)
+  {
+    if (!anchor.make(state, solution.tied, nev, n_wanted, lasting, why, on_update))
+      return false;
+    TimerOutput::Scope t(timer, "eigen: reduced model");
+    return reduced_solve.solve(state, loose_body, nev, solution, why, true, worst_backward_error);
+  }
+
+  void
+  PrestressedEigenproblem::served(const StaticState       &state,
+                                  const std::vector<bool> &loose_body,
+                                  EigenSolution           &solution,
+                                  unsigned int            &counter)
+  {
+    speed_reduced = true;
+    ++counter;
+    if (solution.elastic.size() > n_wanted)
+      solution.elastic.resize(n_wanted);
+    warn_far_shift(solution, state.rpm);
+    classifier.announce_loose_bodies(state, loose_body);
+    ++speeds_done;
+  }
+
+  PrestressedEigenproblem::SpeedOperators
+  PrestressedEigenproblem::operators()
+  {
+    // the factorisation of the latest full solve serves the response's
+    // basis (it checks its residual on this speed's matrices); a new one
+    // only if there is none
+    if (!eigensolver.linear_solver().factorized())
+      {
+        TimerOutput::Scope t(timer, "eigen: factorisation + ARPACK");
+        eigensolver.factorize(tangent.mass(), tangent.damping(), tangent.stiffness());
+      }
+    SpeedOperators op{tangent.mass(), tangent.damping(), tangent.stiffness(),
+                      eigensolver.linear_solver(), last_rpm};
+    if (tangent.affine_segment())
+      {
+        op.segment     = tangent.segment();
+        op.speed_share = [this](const std::vector<const Vector<double> *> &x,
+                                std::vector<Vector<double>>               &gx,
+                                std::vector<Vector<double>>               &k2x) {
+          tangent.speed_share(x, gx, k2x);
+        };
+      }
+    // the reduced model of this speed, for the response: only with the
+    // products its projections were made of (freed by a full solve)
+    const auto &p = reduced.projections();
+    if (speed_reduced && !p.av_mass.empty())
+      {
+        op.basis = &reduced.basis();
+        op.Mr    = &p.mass;
+        op.Cr    = &reduced.speed_damping();
+        op.Kr    = &reduced.speed_stiffness();
+        const double omega = SpeedSchedule::rpm_to_rad_per_s(last_rpm);
+        op.products = [this, omega](const std::vector<std::complex<double>> &y,
+                                    ComplexVector                           &Mu,
+                                    ComplexVector                           &Cu,
+                                    ComplexVector                           &Ku) {
+          ReducedModel::Expanded e = reduced.expanded({y}, omega, omega * omega, false);
+          Mu                       = std::move(e.m[0]);
+          Cu                       = std::move(e.c[0]);
+          Ku                       = std::move(e.k[0]);
+        };
+        op.w_tangent = p.w_tangent;
+        op.row_parts = [this](const std::vector<const Vector<double> *> &x,
+                              std::array<std::vector<double>, 5>        &parts) {
+          reduced.row_parts(x, parts);
+        };
+      }
+    return op;
+  }
+
+  void
+  PrestressedEigenproblem::finish(Summary &summary) const
+  {
+    if (!compute || speeds_done == 0)
+      return;
+    for (const auto &[key, value] : self_checks.results())
+      summary.add(key, value, 12);
+    summary.add("eigen.speeds", speeds_done);
+    summary.add("eigen.worst_backward_error", worst_backward_error, 12);
+    summary.add("eigen.retried_speeds", full.retried_speeds);
+    summary.add("eigen.full_solves", full.solves);
+    summary.add("eigen.reduced_solves", reduced_solves);
+    summary.add("eigen.reduced_refusals", reduced_refusals);
+    summary.add("eigen.reduced_root_trials", reduced_trials);
+    summary.add("eigen.undamped_anchors", undamped_served);
+    summary.add("eigen.undamped_anchors_refused", undamped_refused);
+    summary.add("eigen.undamped_anchors_on_tie_updates", ties.anchors);
+    summary.add("eigen.tie_update_anchors_refused", ties.anchors_refused);
+    // (an undamped anchor's speed is a reduced solve with the same checks)
+    const bool any_reduced = reduced_solves + undamped_served > 0;
+    if (any_reduced)
+      {
+        summary.add("eigen.reduced_worst_error_estimate", reduced_solve.worst_estimate, 12);
+        summary.add("eigen.reduced_worst_product_mismatch", reduced_solve.worst_products, 12);
+        summary.add("eigen.product_checks_skipped", reduced_solve.checks_skipped);
+        summary.add("eigen.estimate_gram_matrices", estimates.builds);
+        summary.add("eigen.estimate_gram_worst_difference", estimates.worst_difference, 12);
+        summary.add("eigen.residual_norm_gram_worst_difference", estimates.norms_worst_difference, 12);
+        summary.add("eigen.residual_norms_from_gram", estimates.norm_speeds);
+      }
+    summary.add("eigen.workspace_retries", eigensolver.linear_solver().n_workspace_retries());
+    summary.add("eigen.factorizations", eigensolver.linear_solver().n_factorizations());
+    summary.add("eigen.factorizations_on_earlier_analysis",
+                eigensolver.linear_solver().n_reused_analyses());
+    log << "Eigenproblem: " << speeds_done << " speeds (" << full.solves << " full, "
+        << reduced_solves << " on the reduced model, " << reduced_refusals
+        << " refused by it; " << undamped_served << " on undamped anchors (" << ties.anchors
+        << " on tie updates of an earlier LDL^T), "
+        << undamped_refused << " refused by them; " << reduced_trials
+        << " unchecked root-solve trials on it), "
+        << eigensolver.linear_solver().n_factorizations()
+        << " factorisations (LU of Q(sigma) or LDL^T of K_t + sigma^2 M), worst backward error "
+        << worst_backward_error
+        << (any_reduced ? ", largest estimated error of a reduced mode " : "");
+    if (any_reduced)
+      log << reduced_solve.worst_estimate;
+    log << '\n';
+  }
+
+  void
+  PrestressedEigenproblem::warn_far_shift(const EigenSolution &solution, const double rpm)
+  {
+    // shift-invert orders the spectrum by |lambda - sigma|: far above the
+    // lowest modes the wanted eigenvalues crowd together and ARPACK can
+    // miss a member of a doublet (doc/limits.md)
+    const double sigma_hz = eigensolver.shift() / (2 * M_PI);
+    if (!shift_warned && !solution.elastic.empty() &&
+        sigma_hz > std::abs(solution.elastic.front().lambda.imag()) / (2 * M_PI))
+      {
+        shift_warned = true;
+        log << "Warning: Eigenproblem/Shift = " << sigma_hz
+            << " Hz lies above the lowest elastic frequency found at " << rpm
+            << " r/min (" << std::abs(solution.elastic.front().lambda.imag()) / (2 * M_PI)
+            << " Hz): the shift-inverted eigenvalues crowd together and modes can be missed; "
+               "keep the Shift below the lowest frequency of interest.\n";
+      }
   }
 } // namespace rotorfit

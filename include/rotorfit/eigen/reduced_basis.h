@@ -24,8 +24,8 @@ namespace rotorfit
    * replicated on every MPI rank, like the Arnoldi vectors.
    *
    * Which speeds it may serve, and how its modes are checked against the
-   * full matrices, is PrestressedEigenproblem's business
-   * (prestressed_reduced.cc); this class is the linear algebra.
+   * full matrices, is ReducedSolve's business (its projections:
+   * ReducedModel); this class is the linear algebra.
    *
    * Parameters: the "Reduced ..." entries of subsection "Eigenproblem".
    */
