@@ -105,10 +105,10 @@ namespace rotorfit
     case_checks::resources(model, eigen, comm, log);
   }
 
-  // The story of a run: setup() (mesh, pairs, supports, the input checks),
-  // refine_mesh() first where Mesh refinement/Cycles asks for it, run()
-  // below, then finish() (summary.txt, the pictures); the command line
-  // (app/application.cc) calls them. Each phase keeps its own timer.
+  // The story of a run, as the command line (app/application.cc) calls it:
+  // refine_mesh() where Mesh refinement/Cycles asks for it, setup() (mesh,
+  // pairs, supports, the input checks), then run_and_finish(): run() below
+  // and finish() (summary.txt, the pictures). Each phase keeps its own timer.
   void
   RotorProblem::run()
   {

@@ -560,7 +560,7 @@ namespace
     entry("K_theta", a.forms.K, ref.K, Rz, Rz, "int rho (x^2 + y^2) (I_p)");
   }
 
-  /// (r, theta, z) chart: a copy of the section mesher's (source/mesh/section_mesh_build.cc).
+  /// (r, theta, z) chart: a copy of the section mesher's (source/mesh/section_hexahedra.cc).
   class CylindricalChart : public ChartManifold<3, 3, 3>
   {
   public:
