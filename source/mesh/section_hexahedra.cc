@@ -1,4 +1,5 @@
 #include <rotorfit/mesh/section_hexahedra.h>
+#include <rotorfit/mesh/cylindrical_chart.h>
 
 #include <deal.II/grid/manifold.h>
 #include <deal.II/grid/tria_description.h>
@@ -13,45 +14,6 @@ namespace rotorfit
 
   namespace
   {
-    /// (r, theta, z): straight lines in the chart are cylinders' generators,
-    /// circles and cones' generators, so the chart is exact on all sections.
-    class CylindricalChart : public ChartManifold<3, 3, 3>
-    {
-    public:
-      CylindricalChart()
-        : ChartManifold<3, 3, 3>(Tensor<1, 3>({0., 2. * M_PI, 0.}))
-      {}
-
-      Point<3>
-      pull_back(const Point<3> &p) const override
-      {
-        return Point<3>(std::hypot(p[0], p[1]), std::atan2(p[1], p[0]), p[2]);
-      }
-
-      Point<3>
-      push_forward(const Point<3> &c) const override
-      {
-        return Point<3>(c[0] * std::cos(c[1]), c[0] * std::sin(c[1]), c[2]);
-      }
-
-      DerivativeForm<1, 3, 3>
-      push_forward_gradient(const Point<3> &c) const override
-      {
-        DerivativeForm<1, 3, 3> d;
-        d[0][0] = std::cos(c[1]);
-        d[0][1] = -c[0] * std::sin(c[1]);
-        d[1][0] = std::sin(c[1]);
-        d[1][1] = c[0] * std::cos(c[1]);
-        d[2][2] = 1;
-        return d;
-      }
-
-      std::unique_ptr<Manifold<3, 3>>
-      clone() const override
-      {
-        return std::make_unique<CylindricalChart>();
-      }
-    };
 
     constexpr types::manifold_id chart_id = 1;
     /// Half-width of the O-grid's square over the core radius: its corners

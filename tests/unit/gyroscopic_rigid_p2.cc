@@ -55,6 +55,7 @@
 
 #include <rotorfit/eigen/rotor_matrices.h>
 #include <rotorfit/material/bodies.h>
+#include <rotorfit/mesh/cylindrical_chart.h>
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
@@ -560,45 +561,6 @@ namespace
     entry("K_theta", a.forms.K, ref.K, Rz, Rz, "int rho (x^2 + y^2) (I_p)");
   }
 
-  /// (r, theta, z) chart: a copy of the section mesher's (source/mesh/section_hexahedra.cc).
-  class CylindricalChart : public ChartManifold<3, 3, 3>
-  {
-  public:
-    CylindricalChart()
-      : ChartManifold<3, 3, 3>(Tensor<1, 3>({0., 2. * M_PI, 0.}))
-    {}
-
-    Point<3>
-    pull_back(const Point<3> &p) const override
-    {
-      return Point<3>(std::hypot(p[0], p[1]), std::atan2(p[1], p[0]), p[2]);
-    }
-
-    Point<3>
-    push_forward(const Point<3> &c) const override
-    {
-      return Point<3>(c[0] * std::cos(c[1]), c[0] * std::sin(c[1]), c[2]);
-    }
-
-    DerivativeForm<1, 3, 3>
-    push_forward_gradient(const Point<3> &c) const override
-    {
-      DerivativeForm<1, 3, 3> d;
-      d[0][0] = std::cos(c[1]);
-      d[0][1] = -c[0] * std::sin(c[1]);
-      d[1][0] = std::sin(c[1]);
-      d[1][1] = c[0] * std::cos(c[1]);
-      d[2][2] = 1;
-      return d;
-    }
-
-    std::unique_ptr<Manifold<3, 3>>
-    clone() const override
-    {
-      return std::make_unique<CylindricalChart>();
-    }
-  };
-
   Point<3>
   cylindrical(const double r, const double theta, const double z)
   {
@@ -736,7 +698,7 @@ main(int argc, char **argv)
     hex_cells[0].material_id = 1;
     tria_hex.create_triangulation(v, hex_cells, SubCellData());
     tria_hex.begin_active()->set_all_manifold_ids(1);
-    tria_hex.set_manifold(1, CylindricalChart());
+    tria_hex.set_manifold(1, rotorfit::CylindricalChart());
 
     const FESystem<3> fe_hex(FE_Q<3>(2), 3);
     DoFHandler<3>     hex_dofs(tria_hex);
