@@ -6,7 +6,9 @@ tests/CMakeLists.txt, and so is each test's kind (its CTest label).
 
   run_test.py compare EXE PRM OUTDIR EXPECTED RTOL ATOL [NP]
       run the case, take the keys of EXPECTED from OUTDIR/summary.txt and
-      compare them with numdiff (relative RTOL, absolute ATOL).
+      compare them with numdiff (relative RTOL, absolute ATOL). A key
+      SUB/KEY is read from the subfolder SUB (a fit study's case), a key
+      FILE.csv:SPEED:NAME:COLUMN from a result table.
   run_test.py error EXE PRM EXPECTED [OPTIONS...]
       --validate [OPTIONS] must fail with exit code 1; stderr is compared with EXPECTED
       (numdiff, numbers to 1e-6 relative).
@@ -100,6 +102,9 @@ def pictures(exe, prm, outdir, scripts_dir, python, *sets):
         jobs.append(("plot_response.py", ["response_bode.png", "response_polar.png"]))
     if open(os.path.join(outdir, "contact.csv")).read().count("\n") > 1:
         jobs.append(("plot_contact.py", ["contact.png"]))
+    fit = os.path.join(outdir, "fit.csv")
+    if os.path.exists(fit) and open(fit).read().count("\n") > 1:
+        jobs.append(("plot_fit.py", ["fit.png"]))
     for script, pngs in jobs:
         for png in pngs:
             there = os.path.getsize(os.path.join(outdir, png)) > 0 if os.path.exists(
@@ -149,9 +154,28 @@ def falls(exe, prm, outdir):
     return 0 if ok else 1
 
 
+def result_value(outdir, key):
+    """KEY of OUTDIR's summary.txt; 'SUB/KEY': of the subfolder SUB (a fit study's case);
+    'FILE.csv:SPEED:NAME:COLUMN': COLUMN of the row at SPEED r/min whose second field is NAME."""
+    if "/" in key:
+        sub, key = key.split("/", 1)
+        return result_value(os.path.join(outdir, sub), key)
+    if ".csv:" in key:
+        name, speed, item, column = key.split(":")
+        lines = [l.rstrip("\n").split(",") for l in open(os.path.join(outdir, name))]
+        col = lines[0].index(column)
+        for f in lines[1:]:
+            if float(f[0]) == float(speed) and f[1] == item:
+                return f[col]
+        return None
+    for l in open(os.path.join(outdir, "summary.txt")):
+        if l.strip() and l.split(None, 1)[0] == key:
+            return l.split(None, 1)[1].strip()
+    return None
+
+
 def compare(exe, prm, outdir, expected, rtol, atol, np="1"):
     run(exe, prm, int(np), outdir)
-    summary = dict(l.split(None, 1) for l in open(os.path.join(outdir, "summary.txt")) if l.strip())
     # each line: key value [rtol atol]; a line's own tolerances override
     failed = 0
     for line in open(expected):
@@ -160,13 +184,15 @@ def compare(exe, prm, outdir, expected, rtol, atol, np="1"):
         f = line.split()
         key, value = f[0], f[1]
         r, a = (f[2], f[3]) if len(f) >= 4 else (rtol, atol)
-        if key not in summary:
-            sys.exit(f"{key} missing from summary.txt")
-        got, want = (os.path.join(outdir, key + s) for s in (".got", ".want"))
-        open(got, "w").write(f"{key} {summary[key].strip()}\n")
-        open(want, "w").write(f"{key} {value}\n")
+        have = result_value(outdir, key)
+        if have is None:
+            sys.exit(f"{key} missing from the results in {outdir}")
+        safe = re.sub(r"[^A-Za-z0-9_.]", "_", key)
+        got, want = (os.path.join(outdir, safe + s) for s in (".got", ".want"))
+        open(got, "w").write(f"{safe} {have}\n")
+        open(want, "w").write(f"{safe} {value}\n")
         status = numdiff(got, want, r, a)
-        print(f"{key}: {summary[key].strip()} vs {value} (rtol {r}, atol {a}):",
+        print(f"{key}: {have} vs {value} (rtol {r}, atol {a}):",
               "ok" if status == 0 else "FAILED")
         failed += status != 0
     return 1 if failed else 0

@@ -1,4 +1,5 @@
 #include <rotorfit/app/application.h>
+#include <rotorfit/app/fit_cases.h>
 #include <rotorfit/base/format.h>
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/base/log.h>
@@ -255,7 +256,8 @@ namespace rotorfit
     /// Validate or run one case; every way out is an exit code, and once the
     /// output folder is ours, a status in its summary.txt.
     int
-    run_case(const CaseOptions &options, const MPI_Comm comm, Log &log)
+    run_case(const CaseOptions &options, const MPI_Comm comm, Log &log,
+             std::string *loose_at_rest = nullptr)
     {
       const bool         root     = Utilities::MPI::this_mpi_process(comm) == 0;
       const std::string &file     = options.file;
@@ -305,6 +307,19 @@ namespace rotorfit
             }
           return problem->run_and_finish();
         }
+      catch (const FitLooseAtRest &e)
+        {
+          // a case of a fit study: recorded there, and the study goes on
+          if (loose_at_rest)
+            {
+              log << "Fit loose at rest: " << e.what() << '\n';
+              *loose_at_rest = e.what();
+              return stop("loose at rest", exit_code::success, "", e.what());
+            }
+          if (root)
+            std::cerr << "rotorfit: error: " << e.what() << '\n';
+          return stop("refused", exit_code::input_error, "", e.what());
+        }
       catch (const InputError &e)
         {
           if (root)
@@ -330,6 +345,65 @@ namespace rotorfit
           return stop("failed", exit_code::solver, "set-up", e.what());
         }
     }
+
+    /**
+     * A fit study (a toleranced fit, temperature cases): every case one
+     * after the other, each into its subfolder, then the study's
+     * fit_cases.csv and summary.txt. Otherwise the one case.
+     */
+    int
+    run_cases(const CaseOptions &options, const MPI_Comm comm, Log &log)
+    {
+      std::unique_ptr<FitCases> study;
+      std::string               directory;
+      try
+        {
+          ParameterHandler prm;
+          Log              quiet(false);
+          const auto       problem = open_case(prm, options, comm, quiet);
+          study     = std::make_unique<FitCases>(problem->discretization());
+          directory = problem->output_directory();
+        }
+      catch (...)
+        {
+          // run_case reads the case again and reports what is wrong
+          study.reset();
+        }
+      if (!study || study->list().size() <= 1)
+        return run_case(options, comm, log);
+      log << "Fit study: " << study->list().size() << " cases into " << directory << '/';
+      for (const auto &c : study->list())
+        log << ' ' << c.name;
+      log << '\n';
+      for (unsigned int k = 0; k < study->list().size(); ++k)
+        {
+          const auto &c    = study->list()[k];
+          CaseOptions one  = options;
+          one.sets.insert(one.sets.end(), c.sets.begin(), c.sets.end());
+          one.output_override = directory + "/" + c.name;
+          log << "\n=== Fit study case " << c.name << " (" << k + 1 << " of "
+              << study->list().size() << ") ===\n";
+          std::string loose;
+          const int   code = run_case(one, comm, log, &loose);
+          if (options.validate)
+            {
+              if (code != exit_code::success)
+                return code;
+              continue;
+            }
+          if (!loose.empty())
+            study->record_loose(k, loose);
+          else
+            study->record(k, code, one.output_override);
+          if (code == exit_code::interrupted)
+            break;
+        }
+      if (options.validate)
+        return exit_code::success;
+      const int code = study->finish(directory, comm);
+      log << "Fit study: fit_cases.csv and summary.txt in " << directory << '\n';
+      return code;
+    }
   } // namespace
 
   int
@@ -348,6 +422,6 @@ namespace rotorfit
         return exit_code::input_error;
       }
     Log log(root);
-    return run_case(options, comm, log);
+    return run_cases(options, comm, log);
   }
 } // namespace rotorfit

@@ -16,6 +16,7 @@
 #include <limits>
 #include <map>
 #include <set>
+#include <iomanip>
 #include <sstream>
 
 namespace rotorfit
@@ -50,15 +51,31 @@ namespace rotorfit
                           "Physical surface on the hub (outer) side; may be the "
                           "same surface as the shaft side when the geometry is "
                           "fragmented. Mandatory.");
-        prm.declare_entry("Radial interference",
-                          "",
-                          patterns::Mandatory(patterns::Positive()),
-                          "Interference on the radius (half the diametral "
-                          "interference) [m], > 0. Both bodies are meshed at "
-                          "the same nominal radius (numerical interference). "
-                          "Mandatory.");
+        FitSpecification::declare_parameters(prm);
         prm.leave_subsection();
       }
+  }
+
+  void
+  ContactInterfaces::declare_fit_design(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Fit design");
+    prm.declare_entry("Reference temperature",
+                      "20",
+                      Patterns::Double(-273.15),
+                      "Temperature at which the interferences, the tolerances "
+                      "and the mesh are given [deg C] (ISO 1: 20). A body at "
+                      "another Temperature expands freely by its Thermal "
+                      "expansion coefficient times the difference.");
+    prm.declare_entry("Interference cases",
+                      "smallest, largest",
+                      Patterns::MultipleSelection("smallest|largest"),
+                      "Which ends of a toleranced fit's band (ISO fit, Limit "
+                      "deviations) are run, one case each: the smallest "
+                      "interference governs slip and the loss of fit, the "
+                      "largest the stresses. Fits given by a Radial "
+                      "interference are the same in every case.");
+    prm.leave_subsection();
   }
 
   void
@@ -73,16 +90,37 @@ namespace rotorfit
         d.name          = name;
         d.shaft_surface = prm.get("Shaft surface");
         d.hub_surface   = prm.get("Hub surface");
-        for (const std::string entry :
-             {"Shaft surface", "Hub surface", "Radial interference"})
+        for (const std::string entry : {"Shaft surface", "Hub surface"})
           if (prm.get(entry).empty())
             throw InputError("Interface " + name + "/" + entry +
                              " is not set; every interface needs Shaft "
-                             "surface, Hub surface and Radial interference.");
-        d.interference = prm.get_double("Radial interference");
+                             "surface, Hub surface and its interference.");
+        d.fit.parse_parameters(prm, "Interface " + name);
         prm.leave_subsection();
         interfaces.push_back(d);
       }
+    prm.enter_subsection("Fit design");
+    reference_celsius = prm.get_double("Reference temperature");
+    cases.clear();
+    for (const auto &c : Utilities::split_string_list(prm.get("Interference cases"), ','))
+      {
+        const auto k = c == "smallest" ? FitSpecification::Case::smallest :
+                                         FitSpecification::Case::largest;
+        if (std::find(cases.begin(), cases.end(), k) == cases.end())
+          cases.push_back(k);
+      }
+    prm.leave_subsection();
+    if (cases.empty())
+      throw InputError("Fit design/Interference cases is empty; give smallest, largest or both.");
+    band_case = cases.front();
+  }
+
+  bool
+  ContactInterfaces::any_toleranced() const
+  {
+    return std::any_of(interfaces.begin(), interfaces.end(), [](const InterfaceDefinition &d) {
+      return d.fit.toleranced();
+    });
   }
 
   namespace
@@ -91,6 +129,7 @@ namespace rotorfit
     {
       Point<3>                               x;
       std::array<types::global_dof_index, 3> dofs;
+      unsigned int                           body; ///< material id of its cell
     };
 
     double
@@ -147,7 +186,8 @@ namespace rotorfit
                       SidePoint{support_points[dofs[i]],
                                 {{dofs[i],
                                   dofs[fe.component_to_system_index(1, k)],
-                                  dofs[fe.component_to_system_index(2, k)]}}};
+                                  dofs[fe.component_to_system_index(2, k)]}},
+                                cell->material_id()};
                     face_x_dofs.push_back(dofs[i]);
                   }
                 if (s == 0)
@@ -171,8 +211,10 @@ namespace rotorfit
   ContactPairs::build(const AssemblyMesh                     &mesh,
                       const DoFHandler<3>                    &dof_handler,
                       const std::vector<Point<3>>            &support_points,
-                      const std::vector<InterfaceDefinition> &interfaces)
+                      const ContactInterfaces                &interface_list,
+                      const std::vector<double>              &free_thermal_strain)
   {
+    const auto &interfaces = interface_list.list();
     pair_list.clear();
     surfaces.clear();
     surfaces.resize(interfaces.size());
@@ -184,6 +226,7 @@ namespace rotorfit
         InterfaceSides sides;
         collect_sides(mesh, dof_handler, support_points, def, sides);
         const auto pair_of = match_sides(f, def, sides, mesh.matching_tolerance(), mesh.coincidence_hint());
+        set_interference(f, def, interface_list.interference_case(), sides, free_thermal_strain);
         assemble_surface(f, sides, pair_of, mesh, dof_handler.get_fe());
       }
   }
@@ -232,7 +275,7 @@ namespace rotorfit
         pair.position          = p.x;
         const double r         = radius(p.x);
         pair.normal            = Tensor<1, 3>({p.x[0] / r, p.x[1] / r, 0.});
-        pair.interference      = def.interference;
+        pair.interference      = 0; // set_interference()
         pair_of_shaft_dof[dof] = surfaces[f].pairs.size();
         surfaces[f].pairs.push_back(pair_list.size());
         pair_list.push_back(pair);
@@ -252,6 +295,84 @@ namespace rotorfit
         throw InputError(s.str());
       }
     return pair_of_shaft_dof;
+  }
+
+  void
+  ContactPairs::set_interference(const unsigned int           f,
+                                 const InterfaceDefinition   &def,
+                                 const FitSpecification::Case c,
+                                 const InterfaceSides        &sides,
+                                 const std::vector<double>   &free_thermal_strain)
+  {
+    FitGeometry &g = surfaces[f].geometry;
+    g.r_min = g.z_min = std::numeric_limits<double>::max();
+    g.r_max = g.z_max = std::numeric_limits<double>::lowest();
+    double r_sum      = 0;
+    for (const auto i : surfaces[f].pairs)
+      {
+        const Point<3> &x = pair_list[i].position;
+        r_sum += radius(x);
+        g.r_min = std::min(g.r_min, radius(x));
+        g.r_max = std::max(g.r_max, radius(x));
+        g.z_min = std::min(g.z_min, x[2]);
+        g.z_max = std::max(g.z_max, x[2]);
+      }
+    const double r_mean = r_sum / surfaces[f].pairs.size();
+    // the tables step at whole micrometres: a diameter of 30 mm meshed as
+    // 30.000000001 mm is 30 mm
+    g.diameter = std::round(2 * r_mean * 1e6) / 1e6;
+    if (def.fit.toleranced() && g.r_max - g.r_min > 1e-3 * r_mean)
+      {
+        std::ostringstream m;
+        m << "Interface " << def.name << ": an " << def.fit.describe()
+          << " needs a cylindrical fit, but its radius ranges from " << g.r_min * 1e3 << " to "
+          << g.r_max * 1e3 << " mm; give Radial interference instead.";
+        throw InputError(m.str());
+      }
+    g.radial_interference = def.fit.effective_radial_interference(g.diameter, c);
+    // the body holding most of each side's points (ties: the lower id)
+    for (unsigned int s = 0; s < 2; ++s)
+      {
+        std::map<unsigned int, unsigned int> count;
+        for (const auto &[dof, p] : sides.side[s])
+          ++count[p.body];
+        const unsigned int body =
+          std::max_element(count.begin(), count.end(), [](const auto &a, const auto &b) {
+            return a.second < b.second;
+          })->first;
+        (s == 0 ? g.shaft_body : g.hub_body) = body;
+      }
+    const auto strain     = [&](const unsigned int body) {
+      return body < free_thermal_strain.size() ? free_thermal_strain[body] : 0.;
+    };
+    // a body at uniform temperature between statically determinate
+    // supports expands freely and without stress, u_r = eps r: the hub's
+    // bore moves out by eps_hub r, the shaft's surface by eps_shaft r
+    g.thermal_shift = -r_mean * (strain(g.hub_body) - strain(g.shaft_body));
+    std::map<types::global_dof_index, unsigned int> body_of_hub_dof;
+    for (const auto &[dof, p] : sides.side[1])
+      body_of_hub_dof[p.dofs[0]] = p.body;
+    double smallest = std::numeric_limits<double>::max();
+    for (const auto i : surfaces[f].pairs)
+      {
+        ContactPair &pair = pair_list[i];
+        const unsigned int shaft_body = sides.side[0].at(pair.shaft_dofs[0]).body;
+        const unsigned int hub_body   = body_of_hub_dof.at(pair.hub_dofs[0]);
+        pair.interference             = g.radial_interference -
+                            radius(pair.position) * (strain(hub_body) - strain(shaft_body));
+        smallest = std::min(smallest, pair.interference);
+      }
+    if (!(smallest > 0))
+      {
+        std::ostringstream m;
+        m << std::setprecision(4) << "Interface " << def.name
+          << ": at the bodies' temperatures the fit is loose at rest (radial interference "
+          << g.radial_interference * 1e6 << " um at the reference temperature, "
+          << g.thermal_shift * 1e6 << " um by the temperatures, " << smallest * 1e6
+          << " um left at the least pair); nothing holds the hub. Check the bodies' Temperature "
+             "and Thermal expansion coefficient.";
+        throw FitLooseAtRest(m.str());
+      }
   }
 
   void

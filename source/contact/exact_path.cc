@@ -32,6 +32,7 @@ namespace rotorfit
     ops         = &system.operators;
     constraints = &system.constraints;
     F_c         = &system.unit_centrifugal_load;
+    pairs       = &system.pairs;
     owned       = system.owned;
     comm        = system.comm;
     base        = &base_;
@@ -107,7 +108,12 @@ namespace rotorfit
         // pulled along by the change follow in the active-set iteration
         const double w_s = std::min(w_e + 1e-10 * std::max(w_e, w), 0.5 * (w_e + w));
         const std::vector<bool> before = current.active;
+        ResultantKink           kink;
+        kink.w = w_e;
+        resultants(current, w_e, kink.force_before, kink.moment_before);
         settle(w_s, state);
+        resultants(current, w_e, kink.force_after, kink.moment_after);
+        state.kinks.push_back(std::move(kink));
         for (unsigned int i = 0; i < n; ++i)
           if (before[i] != current.active[i])
             state.events.push_back({w_e, i, before[i]});
@@ -123,10 +129,25 @@ namespace rotorfit
                     ContactDecomposition      &current)
   {
     // changes at w itself: at their roots under the previous law (a pair
-    // pulled along by another one: at w)
+    // pulled along by another one: at w); the resultants there from the
+    // new law (continuous through a change: the pair changing carries no force)
+    double first_root = w;
     for (unsigned int i = 0; i < roots.size(); ++i)
       if (before[i] != current.active[i])
-        state.events.push_back({std::min(std::max(roots[i], path_w), w), i, before[i]});
+        {
+          const double w_i = std::min(std::max(roots[i], path_w), w);
+          state.events.push_back({w_i, i, before[i]});
+          first_root = std::min(first_root, w_i);
+        }
+    if (first_root < w)
+      {
+        ResultantKink kink;
+        kink.w = first_root;
+        resultants(current, first_root, kink.force_after, kink.moment_after);
+        kink.force_before  = kink.force_after;
+        kink.moment_before = kink.moment_after;
+        state.kinks.push_back(std::move(kink));
+      }
     path_w = w;
     make_displacements(current);
     std::stable_sort(state.events.begin(), state.events.end(),
@@ -152,6 +173,22 @@ namespace rotorfit
           return root;
       }
     return infinity;
+  }
+
+  void
+  ExactPath::resultants(const ContactDecomposition &d, const double w, std::vector<double> &force,
+                        std::vector<double> &moment) const
+  {
+    force.assign(pairs->n_interfaces(), 0.);
+    moment.assign(pairs->n_interfaces(), 0.);
+    const auto &list = pairs->pairs();
+    for (unsigned int i = 0; i < list.size(); ++i)
+      if (d.active[i])
+        {
+          const double N = d.force_I[i] + w * d.force_C[i];
+          force[list[i].interface] += N;
+          moment[list[i].interface] += N * std::hypot(list[i].position[0], list[i].position[1]);
+        }
   }
 
   void

@@ -7,6 +7,8 @@
 
 #include <cmath>
 #include <set>
+#include <sstream>
+#include <algorithm>
 
 namespace rotorfit
 {
@@ -20,6 +22,15 @@ namespace rotorfit
                       Patterns::List(Patterns::Anything(), 0),
                       "Names of the bodies, e.g. 'shaft, sleeve'. Each needs a "
                       "subsection 'Body <name>'.");
+    prm.enter_subsection("Fit design");
+    prm.declare_entry("Temperature case",
+                      "1",
+                      Patterns::Integer(1),
+                      "Which entry of each body's Temperature list this run "
+                      "uses (a list of one serves every case). Set by the "
+                      "program when it runs the temperature cases one after "
+                      "the other.");
+    prm.leave_subsection();
   }
 
   void
@@ -56,9 +67,51 @@ namespace rotorfit
                           "osmium, the densest element, 22,590. Below 100 (lighter "
                           "than balsa, polymers and metals) a warning: g/cm^3 for "
                           "kg/m^3? Mandatory.");
+        prm.declare_entry("Temperature",
+                          "20",
+                          Patterns::List(Patterns::Double(-273.15), 1),
+                          "Uniform operating temperature [deg C]. A list gives "
+                          "temperature cases, run one after the other (each "
+                          "body's list has one entry or as many as the longest; "
+                          "Fit design/Temperature case picks one).");
+        prm.declare_entry("Thermal expansion coefficient",
+                          "none",
+                          Patterns::Anything(),
+                          "Linear expansion coefficient alpha [1/K] ('none': the "
+                          "body must stay at the reference temperature). Steel "
+                          "11.5e-6, aluminium 23e-6.");
+        prm.declare_entry("Yield strength",
+                          "none",
+                          Patterns::Anything(),
+                          "Rp0.2 [Pa] for the safety against yield ('none': not "
+                          "reported). S235: 235e6, 6061-T6: 276e6.");
         prm.leave_subsection();
       }
   }
+
+  namespace
+  {
+    /// "none" or a number in (0, @p max] of entry @p e of body @p name.
+    std::optional<double>
+    optional_value(const ParameterHandler &prm, const std::string &name, const std::string &e,
+                   const double max, const std::string &unit)
+    {
+      const std::string v = Utilities::trim(prm.get(e));
+      if (v == "none")
+        return std::nullopt;
+      std::istringstream in(v);
+      double             x = 0;
+      in >> x;
+      if (in.fail() || !in.eof() || !std::isfinite(x) || !(x > 0) || x > max)
+        {
+          std::ostringstream m;
+          m << where_set("Body " + name + "/" + e) << "Body " << name << "/" << e << " = " << v
+            << ": give 'none' or a number in (0, " << max << "]" << unit << '.';
+          throw InputError(m.str());
+        }
+      return x;
+    }
+  } // namespace
 
   void
   Bodies::parse_parameters(ParameterHandler &prm)
@@ -87,6 +140,10 @@ namespace rotorfit
         b.youngs_modulus = prm.get_double("Young's modulus");
         b.poissons_ratio = prm.get_double("Poisson's ratio");
         b.density        = prm.get_double("Density");
+        for (const auto &t : Utilities::split_string_list(prm.get("Temperature"), ','))
+          b.temperatures.push_back(std::stod(t));
+        b.expansion      = optional_value(prm, name, "Thermal expansion coefficient", 1e-3, " 1/K");
+        b.yield_strength = optional_value(prm, name, "Yield strength", 1e11, " Pa");
         // "FILE:LINE: Body NAME/ENTRY = VALUE UNIT"
         const auto entry = [&](const std::string &e, const std::string &unit) {
           const std::string path = "Body " + name + "/" + e;
@@ -131,6 +188,53 @@ namespace rotorfit
         prm.leave_subsection();
         bodies.push_back(b);
       }
+    prm.enter_subsection("Fit design");
+    const unsigned int k = prm.get_integer("Temperature case");
+    prm.leave_subsection();
+    const unsigned int n = n_temperature_cases();
+    for (auto &b : bodies)
+      {
+        if (b.temperatures.size() != 1 && b.temperatures.size() != n)
+          throw InputError(where_set("Body " + b.name + "/Temperature") + "Body " + b.name +
+                           "/Temperature lists " + std::to_string(b.temperatures.size()) +
+                           " temperatures, another body " + std::to_string(n) +
+                           "; give one (for every case) or " + std::to_string(n) + ".");
+        if (k > n)
+          throw InputError("Fit design/Temperature case = " + std::to_string(k) +
+                           ", but the bodies list " + std::to_string(n) +
+                           " temperature case(s).");
+        b.temperature = b.temperatures[b.temperatures.size() == 1 ? 0 : k - 1];
+      }
+  }
+
+  unsigned int
+  Bodies::n_temperature_cases() const
+  {
+    std::size_t n = 1;
+    for (const auto &b : bodies)
+      n = std::max(n, b.temperatures.size());
+    return n;
+  }
+
+  std::vector<double>
+  Bodies::free_thermal_strains(const double reference_temperature) const
+  {
+    std::vector<double> strain;
+    for (const auto &b : bodies)
+      {
+        if (b.temperature != reference_temperature && !b.expansion)
+          {
+            std::ostringstream m;
+            m << "Body " << b.name << " runs at " << b.temperature
+              << " deg C, off the reference temperature " << reference_temperature
+              << " deg C, but has no Thermal expansion coefficient; give it (steel 11.5e-6, "
+                 "aluminium 23e-6 1/K).";
+            throw InputError(m.str());
+          }
+        strain.push_back(b.expansion ? *b.expansion * (b.temperature - reference_temperature) :
+                                       0.);
+      }
+    return strain;
   }
 
   std::vector<std::string>

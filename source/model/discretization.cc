@@ -60,6 +60,7 @@ namespace rotorfit
     AssemblyMesh::declare_parameters(prm);
     Bodies::declare_list(prm);
     ContactInterfaces::declare_list(prm);
+    ContactInterfaces::declare_fit_design(prm);
     prm.enter_subsection("Supports");
     prm.declare_entry("Axial roller surfaces",
                       "",
@@ -116,7 +117,17 @@ namespace rotorfit
     owned = dof_handler.locally_owned_dofs();
     compute_support_points();
 
-    contact_pairs.build(assembly_mesh, dof_handler, points, interface_list.list());
+    const auto strains = body_list.free_thermal_strains(interface_list.reference_temperature());
+    // the temperatures enter as free expansion: a roller restrains it
+    if (!rollers.empty() && std::any_of(strains.begin(), strains.end(), [](const double e) {
+          return e != 0;
+        }))
+      throw InputError("Supports/Axial roller surfaces hold u_z = 0, which would restrain the "
+                       "thermal expansion of a body off the reference temperature; rotorfit "
+                       "models temperatures as the free expansion of bodies on statically "
+                       "determinate supports. Remove the rollers or keep every body at Fit "
+                       "design/Reference temperature.");
+    contact_pairs.build(assembly_mesh, dof_handler, points, interface_list, strains);
     std::vector<std::string> body_names;
     for (const auto &b : body_list.list())
       body_names.push_back(b.name);
@@ -133,8 +144,15 @@ namespace rotorfit
     for (unsigned int i = 0; i < contact_pairs.n_interfaces(); ++i)
       log << "Interface " << interface_list.list()[i].name << ": "
           << contact_pairs.pairs_of(i).size() << " node pairs, area "
-          << contact_pairs.area(i) * 1e6 << " mm^2, radial interference "
-          << interface_list.list()[i].interference * 1e6 << " um\n";
+          << contact_pairs.area(i) * 1e6 << " mm^2, " << interface_list.list()[i].fit.describe()
+          << ", diameter " << contact_pairs.geometry(i).diameter * 1e3
+          << " mm, effective radial interference "
+          << contact_pairs.geometry(i).radial_interference * 1e6 << " um"
+          << (contact_pairs.geometry(i).thermal_shift != 0 ?
+                ", " + std::to_string(contact_pairs.geometry(i).thermal_shift * 1e6) +
+                  " um by the temperatures" :
+                std::string())
+          << "\n";
     log << "Static supports:\n" << description;
     check_interference();
     check_unused_fits();
@@ -288,10 +306,15 @@ namespace rotorfit
                           contact_pairs.pairs()[i].position[1]);
         r /= std::max<std::size_t>(1, contact_pairs.pairs_of(f).size());
         const auto  &d      = interface_list.list()[f];
-        const double strain = d.interference / r;
+        const double delta  = contact_pairs.geometry(f).radial_interference;
+        const double strain = delta / r;
         std::ostringstream m;
-        m << "Interface " << d.name << "/Radial interference = " << d.interference
-          << " m is " << std::setprecision(3) << 100 * strain << " % of the fit radius "
+        if (d.fit.toleranced())
+          m << "Interface " << d.name << ": the " << d.fit.describe()
+            << " gives a radial interference of " << delta << " m, which";
+        else
+          m << "Interface " << d.name << "/Radial interference = " << delta << " m";
+        m << " is " << std::setprecision(3) << 100 * strain << " % of the fit radius "
           << r * 1e3 << " mm";
         if (strain > 1e-2)
           throw InputError(m.str() + "; rotorfit's linear small-strain model holds below 1 % "

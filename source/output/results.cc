@@ -189,7 +189,8 @@ namespace rotorfit
                                 "campbell.csv", "critical_speeds.csv", "rigid_modes.csv",
                                 "campbell.png", "plot.log", "response.csv",
                                 "response_peaks.csv", "stability_onsets.csv", "contact.png",
-                                "response_bode.png", "response_polar.png"})
+                                "response_bode.png", "response_polar.png", "fit.csv",
+                                "body_stress.csv", "fit.png"})
             std::filesystem::remove(output_dir + "/" + f, ec);
           std::ofstream out(output_dir + "/parameters.prm");
           prm.print_parameters(out, ParameterHandler::ShortPRM);
@@ -220,6 +221,9 @@ namespace rotorfit
       return;
     contact.open(output_dir);
     openings.open(output_dir);
+    if (with_contact)
+      fit.open(output_dir);
+    body_stress.open(output_dir);
     if (contents.speed_path == ContactSolver::Path::exact)
       events.open(output_dir);
     if (with_modes)
@@ -246,6 +250,8 @@ namespace rotorfit
     contact.add(state);
     openings.add(state);
     events.add(state);
+    fit.add(state);
+    body_stress.add(state);
     if (write_paraview && paraview && paraview_at(state.index, state.rpm))
       paraview->write_static(state, "solution", state.index);
   }
@@ -290,7 +296,10 @@ namespace rotorfit
     // which picture failed and why
     Pictures drawn(output_dir, log);
     if (with_contact)
-      drawn.add("plot_contact.py", {}, "contact.png");
+      {
+        drawn.add("plot_contact.py", {}, "contact.png");
+        drawn.add("plot_fit.py", {}, "fit.png");
+      }
     if (with_modes && plot)
       drawn.add("plot_campbell.py",
                 campbell_fmax > 0 ? std::vector<std::string>{"--fmax", format_number(campbell_fmax)} :

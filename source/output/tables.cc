@@ -4,6 +4,7 @@
 #include <cmath>
 #include <complex>
 #include <iomanip>
+#include <limits>
 
 namespace rotorfit
 {
@@ -49,6 +50,72 @@ namespace rotorfit
            << c.factorizations << ',' << c.low_rank_updates << ','
            << (row.status == "ok" ? 1 : 0) << ',' << row.first_opening_rpm << ','
            << row.loss_of_fit_rpm << ',' << row.asymmetry << ',' << csv_field(row.status) << '\n';
+    file << std::flush;
+  }
+
+  namespace
+  {
+    /// An empty field for a value that is not defined (NaN).
+    struct Field
+    {
+      double value;
+    };
+    std::ostream &
+    operator<<(std::ostream &out, const Field &f)
+    {
+      if (!std::isnan(f.value))
+        out << f.value;
+      return out;
+    }
+  } // namespace
+
+  void
+  FitTable::open(const std::string &directory)
+  {
+    create(directory + "/fit.csv",
+           "speed_rpm,interface,radial_interference_m,mean_pressure_Pa,edge_peak_ratio,"
+           "torque_capacity_Nm,axial_capacity_N,slip_safety,slip_rpm,hub_bore_von_mises_Pa,"
+           "shaft_bore_von_mises_Pa,hub_bore_hoop_Pa,shaft_bore_hoop_Pa,hub_yield_safety,"
+           "shaft_yield_safety",
+           8);
+  }
+
+  void
+  FitTable::add(const StaticState &state)
+  {
+    if (!file.is_open())
+      return;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (const auto &r : state.fits)
+      {
+        const auto friction = [&](const double v) { return Field{r.with_friction ? v : nan}; };
+        file << state.rpm << ',' << csv_field(r.name) << ',' << r.radial_interference << ','
+             << r.mean_pressure << ',' << Field{r.edge_peak_ratio} << ','
+             << friction(r.torque_capacity) << ',' << friction(r.axial_capacity) << ','
+             << friction(r.slip_safety) << ',' << friction(r.slip_rpm) << ','
+             << r.hub_bore_von_mises << ',' << r.shaft_bore_von_mises << ',' << r.hub_bore_hoop
+             << ',' << r.shaft_bore_hoop << ',' << Field{r.hub_yield_safety} << ','
+             << Field{r.shaft_yield_safety} << '\n';
+      }
+    file << std::flush;
+  }
+
+  void
+  BodyStressTable::open(const std::string &directory)
+  {
+    create(directory + "/body_stress.csv",
+           "speed_rpm,body,max_von_mises_Pa,x_m,y_m,z_m,yield_safety", 8);
+  }
+
+  void
+  BodyStressTable::add(const StaticState &state)
+  {
+    if (!file.is_open())
+      return;
+    for (const auto &r : state.body_stresses)
+      file << state.rpm << ',' << csv_field(r.name) << ',' << r.max_von_mises << ','
+           << r.location[0] << ',' << r.location[1] << ',' << r.location[2] << ','
+           << Field{r.yield_safety} << '\n';
     file << std::flush;
   }
 

@@ -27,6 +27,7 @@ namespace rotorfit
     , timer(timer)
     , comm(model.mpi_communicator())
     , history(model.pairs(), model.interfaces(), log)
+    , assessment(model)
   {}
 
   void
@@ -63,6 +64,7 @@ namespace rotorfit
       assemble_system();
     }
     ahead.clear();
+    assessment.initialize();
     contact.initialize({model.pairs(),
                         model.static_constraints(),
                         stiffness,
@@ -197,6 +199,12 @@ namespace rotorfit
     uzawa_iterations += state.contact.uzawa_iterations;
     contact_events += state.contact.events.size();
     history.record(state, state.decomposition(), contact.constraint_error_limit());
+    {
+      TimerOutput::Scope         t(timer, "fit assessment (capacity, stresses)");
+      PETScWrappers::MPI::Vector u;
+      state.displacement(u);
+      assessment.record(state, u);
+    }
     return state;
   }
 
@@ -286,6 +294,7 @@ namespace rotorfit
         summary.add(key + "polar_moment_kgm2", polar.empty() ? 0. : polar[b]);
       }
     history.add_to_summary(summary);
+    assessment.add_to_summary(summary);
     summary.add("static.factorizations", contact.n_factorizations());
     summary.add("static.low_rank_updates", contact.n_low_rank_updates());
     summary.add("static.influence_columns", contact.n_influence_columns());

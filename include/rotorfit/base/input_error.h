@@ -34,6 +34,17 @@ namespace rotorfit
   };
 
   /**
+   * A fit with no interference left at rest at the bodies' temperatures:
+   * refused like any input, but a temperature case of a study records it
+   * (its loss of fit is 0 r/min) and goes on with the next case.
+   */
+  class FitLooseAtRest : public InputError
+  {
+  public:
+    using InputError::InputError;
+  };
+
+  /**
    * A solver outcome that makes the results of a speed wrong (unconverged
    * eigenpairs, NaN or Inf in a result): the run stops with
    * exit_code::solver, keeping the speeds already written.

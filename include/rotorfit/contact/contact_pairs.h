@@ -10,6 +10,8 @@
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/sparsity_pattern.h>
 
+#include <rotorfit/fit/fit_specification.h>
+
 #include <array>
 #include <string>
 #include <map>
@@ -25,7 +27,7 @@ namespace rotorfit
     std::string name;
     std::string shaft_surface; ///< physical surface, shaft (inner) side
     std::string hub_surface;   ///< physical surface, hub (outer) side
-    double      interference;  ///< radial interference delta [m], > 0
+    FitSpecification fit;      ///< the interference as given, friction, loads
   };
 
   /**
@@ -45,6 +47,38 @@ namespace rotorfit
     void
     parse_parameters(dealii::ParameterHandler &prm);
 
+    /// Declare subsection "Fit design": the reference temperature and the
+    /// interference cases of toleranced fits.
+    static void
+    declare_fit_design(dealii::ParameterHandler &prm);
+
+    /// The end of a toleranced fit's band this run uses (one case per run:
+    /// the application runs the cases one after the other).
+    FitSpecification::Case
+    interference_case() const
+    {
+      return band_case;
+    }
+
+    /// Every case of "Fit design/Interference cases", in order.
+    const std::vector<FitSpecification::Case> &
+    interference_cases() const
+    {
+      return cases;
+    }
+
+    /// Some interface has a toleranced interference (ISO fit, deviations).
+    bool
+    any_toleranced() const;
+
+    /// Temperature at which interferences, tolerances and the mesh are
+    /// given [deg C].
+    double
+    reference_temperature() const
+    {
+      return reference_celsius;
+    }
+
     const std::vector<InterfaceDefinition> &
     list() const
     {
@@ -52,7 +86,21 @@ namespace rotorfit
     }
 
   private:
-    std::vector<InterfaceDefinition> interfaces;
+    std::vector<InterfaceDefinition>    interfaces;
+    std::vector<FitSpecification::Case> cases;
+    FitSpecification::Case              band_case         = FitSpecification::Case::smallest;
+    double                              reference_celsius = 20;
+  };
+
+  /// What a fit's interference is in this run, once the mesh gives its diameter.
+  struct FitGeometry
+  {
+    double diameter = 0;           ///< nominal: twice the mean pair radius [m]
+    double r_min = 0, r_max = 0;   ///< pair radii [m]
+    double z_min = 0, z_max = 0;   ///< axial extent of the pairs [m]
+    double radial_interference = 0; ///< effective, at the reference temperature [m]
+    double thermal_shift = 0;  ///< change of the radial interference by the temperatures at the mean radius [m]
+    unsigned int shaft_body = 0, hub_body = 0; ///< material ids of the two sides
   };
 
   /**
@@ -88,7 +136,8 @@ namespace rotorfit
     build(const AssemblyMesh                     &mesh,
           const dealii::DoFHandler<3>            &dof_handler,
           const std::vector<dealii::Point<3>>    &support_points,
-          const std::vector<InterfaceDefinition> &interfaces);
+          const ContactInterfaces                &interfaces,
+          const std::vector<double>              &free_thermal_strain);
 
     const std::vector<ContactPair> &
     pairs() const
@@ -107,6 +156,21 @@ namespace rotorfit
     pairs_of(const unsigned int i) const
     {
       return surfaces[i].pairs;
+    }
+
+    /// Material ids (body indices) of the shaft side [0] and the hub side
+    /// [1] of interface @p i: the body holding most of that side's points.
+    std::array<unsigned int, 2>
+    bodies(const unsigned int i) const
+    {
+      return {{surfaces[i].geometry.shaft_body, surfaces[i].geometry.hub_body}};
+    }
+
+    /// Diameter, extent, bodies and interference of interface @p i.
+    const FitGeometry &
+    geometry(const unsigned int i) const
+    {
+      return surfaces[i].geometry;
     }
 
     /// Area of interface @p i [m^2] (shaft side, curved geometry).
@@ -146,6 +210,7 @@ namespace rotorfit
       std::vector<std::vector<unsigned int>> faces; // local pair indices
       std::vector<double>                    face_area;
       double                                 area = 0;
+      FitGeometry                            geometry;
       dealii::SparsityPattern                pattern;
       dealii::SparseMatrix<double>           mass;
       std::shared_ptr<dealii::SparseDirectUMFPACK> inverse;
@@ -162,6 +227,14 @@ namespace rotorfit
                 const InterfaceSides      &sides,
                 const double               tolerance,
                 const std::string         &hint);
+
+    /// The fit geometry of interface @p f from its pairs, and each pair's
+    /// interference: the fit's effective one (case @p c) changed by the
+    /// free thermal expansion of the two bodies, -r (eps_hub - eps_shaft).
+    void
+    set_interference(const unsigned int f, const InterfaceDefinition &definition,
+                     const FitSpecification::Case c, const InterfaceSides &sides,
+                     const std::vector<double> &free_thermal_strain);
 
     /// Surface mass matrix and face areas of interface @p f (shaft side).
     void

@@ -15,6 +15,20 @@ namespace rotorfit
     bool         opening; ///< true: closed -> open; false: open -> closed
   };
 
+  /**
+   * The resultants of the closed pairs' normal forces per interface at a
+   * change of the exact path, under the law before and after it: the total
+   * normal force sum N_i [N] and its moment about the axis sum N_i r_i
+   * [N m]. Between two changes both are affine in Omega^2, so what is
+   * built from them (the friction capacity) is known exactly between the
+   * speeds of the run.
+   */
+  struct ResultantKink
+  {
+    double              w; ///< Omega^2 of the change [rad^2/s^2]
+    std::vector<double> force_before, moment_before, force_after, moment_after;
+  };
+
   /// Result of the static contact solve at one speed.
   struct ContactState
   {
@@ -34,6 +48,8 @@ namespace rotorfit
     double              asymmetry = 0;
     /// exact path: the changes since the previous speed, in order of w
     std::vector<ContactEvent> events;
+    /// exact path: the resultants at each change since the previous speed
+    std::vector<ResultantKink> kinks;
   };
 
   /**

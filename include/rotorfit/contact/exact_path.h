@@ -124,6 +124,11 @@ namespace rotorfit
     static double
     event_w(const ContactDecomposition &d, const unsigned int i, const double w);
 
+    /// Per interface: sum N_i and sum N_i r_i of @p d's closed pairs at @p w.
+    void
+    resultants(const ContactDecomposition &d, const double w, std::vector<double> &force,
+               std::vector<double> &moment) const;
+
     /// u_I, u_C of @p d (two back-substitutions), unless made already.
     void
     make_displacements(ContactDecomposition &d);
@@ -131,6 +136,7 @@ namespace rotorfit
     const PairOperators                      *ops         = nullptr;
     const dealii::AffineConstraints<double>  *constraints = nullptr;
     const dealii::PETScWrappers::MPI::Vector *F_c         = nullptr;
+    const ContactPairs                       *pairs       = nullptr;
     BaseFactorization                        *base        = nullptr;
     dealii::IndexSet                          owned;
     MPI_Comm                                  comm = MPI_COMM_SELF;

@@ -2,6 +2,7 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,14 @@ namespace rotorfit
     double      youngs_modulus; ///< E [Pa]
     double      poissons_ratio; ///< nu [-]
     double      density;        ///< rho [kg/m^3]
+    /// operating temperature of this run's temperature case [deg C]
+    double      temperature = 20;
+    /// every listed operating temperature [deg C] (one per temperature case)
+    std::vector<double> temperatures;
+    /// linear thermal expansion coefficient [1/K], if given
+    std::optional<double> expansion;
+    /// yield strength Rp0.2 [Pa], if given
+    std::optional<double> yield_strength;
 
     /// Lame's first parameter [Pa].
     double
@@ -72,6 +81,19 @@ namespace rotorfit
 
     std::vector<std::string>
     physical_volumes() const;
+
+    /// Number of temperature cases: the longest Temperature list.
+    unsigned int
+    n_temperature_cases() const;
+
+    /**
+     * Free thermal strain alpha (T - T_ref) of each body [-] at
+     * @p reference_temperature [deg C]; 0 for a body at it. Throws
+     * InputError for a body off the reference without an expansion
+     * coefficient.
+     */
+    std::vector<double>
+    free_thermal_strains(const double reference_temperature) const;
 
     /// Materials accepted but suspect (nu near 0.5, a density in g/cm^3?),
     /// one message each, for the log once it is open.

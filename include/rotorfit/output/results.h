@@ -150,6 +150,8 @@ namespace rotorfit
     ContactTable                    contact;
     PairOpeningTable                openings;
     ContactEventTable               events;
+    FitTable                        fit;
+    BodyStressTable                 body_stress;
     CampbellTable                   campbell;
     CriticalSpeedTable              critical;
     RigidModeTable                  rigid;

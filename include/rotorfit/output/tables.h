@@ -64,6 +64,26 @@ namespace rotorfit
     add(const StaticState &state);
   };
 
+  /// fit.csv: the fit designer's numbers, one row per speed and interface.
+  class FitTable : CsvTable
+  {
+  public:
+    void
+    open(const std::string &directory);
+    void
+    add(const StaticState &state);
+  };
+
+  /// body_stress.csv: the largest von Mises stress of each body per speed.
+  class BodyStressTable : CsvTable
+  {
+  public:
+    void
+    open(const std::string &directory);
+    void
+    add(const StaticState &state);
+  };
+
   /// campbell.csv: one row per speed and elastic mode.
   class CampbellTable : CsvTable
   {

@@ -81,6 +81,12 @@ namespace rotorfit
     {
       return results.directory();
     }
+    /// The bodies and interfaces as parsed (before setup(): no mesh yet).
+    const Discretization &
+    discretization() const
+    {
+      return model;
+    }
 
     /// Mesh, DoFs, pairs, supports, bearings: every input check that needs
     /// the mesh, and the memory estimate.

@@ -4,6 +4,7 @@
 #include <rotorfit/contact/contact_solver.h>
 #include <rotorfit/model/discretization.h>
 #include <rotorfit/base/summary.h>
+#include <rotorfit/fit/fit_assessment.h>
 #include <rotorfit/statics/fit_history.h>
 #include <rotorfit/statics/static_state.h>
 
@@ -117,6 +118,7 @@ namespace rotorfit
 
     ContactSolver                  contact;
     FitHistory                     history;
+    FitAssessment                  assessment;
     StaticState                    state;
     /// solve_ahead(): each speed's state, or the failure met there
     struct Ahead

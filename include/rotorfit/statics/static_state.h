@@ -26,6 +26,32 @@ namespace rotorfit
     std::string  status;                ///< "ok" or why not converged
   };
 
+  /// The fit designer's numbers of one interface at one speed: a row of fit.csv.
+  struct FitRow
+  {
+    std::string name;
+    double radial_interference = 0; ///< effective, with the temperatures, at the mean radius [m]
+    double mean_pressure = 0, edge_peak_ratio = 0; ///< [Pa], max / mean pressure [-]
+    bool   with_friction = false; ///< a friction coefficient is given
+    double torque_capacity = 0;   ///< mu sum N_i r_i [N m]
+    double axial_capacity  = 0;   ///< mu sum N_i [N]
+    double slip_safety     = 0;   ///< against the given torque and axial force [-] (inf: no load)
+    double slip_rpm        = 0;   ///< where the safety fell to 1 (NaN: not yet)
+    /// nominal stresses at the fit's mid-plane, innermost radius of each body [Pa]
+    double hub_bore_von_mises = 0, shaft_bore_von_mises = 0;
+    double hub_bore_hoop = 0, shaft_bore_hoop = 0;
+    double hub_yield_safety = 0, shaft_yield_safety = 0; ///< Rp0.2 / nominal (NaN: no Rp0.2)
+  };
+
+  /// The largest stress of one body at one speed: a row of body_stress.csv.
+  struct BodyStressRow
+  {
+    std::string      name;
+    double           max_von_mises = 0; ///< over the cell quadrature points [Pa]
+    dealii::Point<3> location;
+    double           yield_safety = 0; ///< Rp0.2 / max (NaN: no Rp0.2)
+  };
+
   /// A pair that opened between two speeds: a row of pair_openings.csv.
   struct PairOpening
   {
@@ -61,6 +87,8 @@ namespace rotorfit
     std::vector<InterfaceRow> interfaces;
     std::vector<PairOpening>  openings; ///< since the previous speed
     std::vector<ContactEventRow> events; ///< since the previous speed (exact path)
+    std::vector<FitRow>          fits;   ///< per interface
+    std::vector<BodyStressRow>   body_stresses; ///< per body
     std::string fit_state = "closed";   ///< closed / partial / open (any interface)
 
     bool
