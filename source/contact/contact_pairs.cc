@@ -108,6 +108,8 @@ namespace rotorfit
     std::vector<std::vector<types::global_dof_index>>         shaft_faces;
     std::vector<typename DoFHandler<3>::active_cell_iterator> face_cells;
     std::vector<unsigned int>                                 face_numbers;
+    /// faces of each side per body (material id)
+    std::map<unsigned int, unsigned int> body_faces[2];
   };
 
   namespace
@@ -136,6 +138,7 @@ namespace rotorfit
                 const double r_cell = radius(cell->center());
                 if ((s == 0) != (r_cell < r_face))
                   continue;
+                ++sides.body_faces[s][cell->material_id()];
                 cell->get_dof_indices(dofs);
                 std::vector<types::global_dof_index> face_x_dofs;
                 for (const unsigned int i : cell_dofs_on_face(cell, face_no))
@@ -183,6 +186,11 @@ namespace rotorfit
         mesh.check_surface_exists(def.hub_surface, "Interface " + def.name + "/Hub surface");
         InterfaceSides sides;
         collect_sides(mesh, dof_handler, support_points, def, sides);
+        for (unsigned int s = 0; s < 2; ++s) // most faces; ties: lower id
+          surfaces[f].bodies[s] =
+            std::max_element(sides.body_faces[s].begin(), sides.body_faces[s].end(),
+                             [](const auto &a, const auto &b) { return a.second < b.second; })
+              ->first;
         const auto pair_of = match_sides(f, def, sides, mesh.matching_tolerance(), mesh.coincidence_hint());
         assemble_surface(f, sides, pair_of, mesh, dof_handler.get_fe());
       }

@@ -109,6 +109,14 @@ namespace rotorfit
       return surfaces[i].pairs;
     }
 
+    /// Material ids (body indices) of the shaft side [0] and the hub side
+    /// [1] of interface @p i: the body holding most of that side's faces.
+    const std::array<unsigned int, 2> &
+    bodies(const unsigned int i) const
+    {
+      return surfaces[i].bodies;
+    }
+
     /// Area of interface @p i [m^2] (shaft side, curved geometry).
     double
     area(const unsigned int i) const
@@ -146,6 +154,7 @@ namespace rotorfit
       std::vector<std::vector<unsigned int>> faces; // local pair indices
       std::vector<double>                    face_area;
       double                                 area = 0;
+      std::array<unsigned int, 2>            bodies = {{0, 0}}; // shaft, hub
       dealii::SparsityPattern                pattern;
       dealii::SparseMatrix<double>           mass;
       std::shared_ptr<dealii::SparseDirectUMFPACK> inverse;
