@@ -1,0 +1,140 @@
+#pragma once
+
+#include <deal.II/base/point.h>
+
+#include <deal.II/dofs/dof_handler.h>
+
+#include <deal.II/lac/petsc_vector.h>
+
+#include <array>
+#include <vector>
+
+namespace rotorfit
+{
+  class Discretization;
+
+  /**
+   * The stresses a shrink-fit designer checks (DIN 7190), evaluated from a
+   * static displacement: per body the largest von Mises stress, and per fit
+   * interface the nominal stresses at the bore of the hub and of the shaft.
+   * Stress sigma = lambda tr(eps) I + 2 mu eps with the body's Lame
+   * parameters (material_id = body index), as in the ParaView output.
+   *
+   * Why the nominal values are taken at the fit's axial mid-plane and at the
+   * body's innermost radius: DIN 7190 designs a fit with the Lame solution
+   * of a long (or thin) cylinder pair, whose stresses are largest at the
+   * bore, r = innermost radius of the body (hub: the fit radius; hollow
+   * shaft: its bore; solid shaft: the axis, where sigma_r = sigma_theta =
+   * -p). The mid-plane is where the 3D state is closest to that solution, as
+   * far as it can be from the fit's ends. At a hub edge (the end of the
+   * contact) the 3D stress is singular: its maximum grows with refinement,
+   * so it is no design value; it is reported separately, by
+   * max_von_mises(), and compared with the nominal value to see the edge's
+   * concentration.
+   *
+   * The bore values are means over 8 equally spaced angles, each at a point
+   * nudged into the body by 1e-6 of the fit radius and evaluated in a cell
+   * of that body only (the two bodies have separate cells on the fit). The
+   * cells and their unit points are found once, on construction; every rank
+   * holds the whole triangulation, so the search is the same everywhere.
+   * Each point is evaluated on the rank that owns its cell and summed over
+   * the ranks: the results are identical on every rank and need only the
+   * ghosts of the owned cells.
+   */
+  class BodyStress
+  {
+  public:
+    /// The largest von Mises stress of a body and where it is.
+    struct Peak
+    {
+      double           von_mises = 0; ///< [Pa]
+      dealii::Point<3> location;      ///< quadrature point [m]
+    };
+
+    /// Nominal stress at a bore: means over 8 angles [Pa], at @p radius.
+    struct BoreStress
+    {
+      double radius    = 0; ///< [m]; 0: the axis of a solid shaft
+      double sigma_r   = 0; ///< radial [Pa]
+      double sigma_t   = 0; ///< hoop (circumferential) [Pa]
+      double sigma_z   = 0; ///< axial [Pa]
+      double von_mises = 0; ///< mean of the points' von Mises stresses [Pa]
+    };
+
+    /// Both bores of one fit interface.
+    struct FitBore
+    {
+      BoreStress hub, shaft;
+    };
+
+    /// One fit interface as the bore evaluation sees it.
+    struct Fit
+    {
+      unsigned int hub_body = 0, shaft_body = 0; ///< body indices
+      double       z_min = 0, z_max = 0;         ///< axial extent of the pairs [m]
+      double       radius = 0;                   ///< mean radius of the pairs [m]
+      double       shaft_bore = 0;               ///< shaft's innermost radius at z_mid, 0: solid [m]
+
+      /// Axial mid-plane [m].
+      double
+      z_mid() const
+      {
+        return 0.5 * (z_min + z_max);
+      }
+    };
+
+    /// Finds the fits' bodies, extents and bore points (all ranks alike).
+    explicit BodyStress(const Discretization &model);
+
+    /// One per interface, in the order of Discretization::interfaces().
+    const std::vector<Fit> &
+    fits() const
+    {
+      return fit_list;
+    }
+
+    /**
+     * Per body, the largest von Mises stress over the cell quadrature points
+     * and its location; ties go to the lexicographically smallest point,
+     * so that any number of ranks agrees. A body without cells: 0 at the
+     * origin. MPI-collective; @p u needs the ghosts of the owned cells.
+     */
+    std::vector<Peak>
+    max_von_mises(const dealii::PETScWrappers::MPI::Vector &u) const;
+
+    /**
+     * Per interface, the nominal hub and shaft bore stresses at the fit's
+     * mid-plane (see the class comment). MPI-collective; @p u needs the
+     * ghosts of the owned cells.
+     */
+    std::vector<FitBore>
+    bore(const dealii::PETScWrappers::MPI::Vector &u) const;
+
+  private:
+    /// A point of a bore, located in a cell of its body.
+    struct BorePoint
+    {
+      dealii::DoFHandler<3>::active_cell_iterator cell;
+      dealii::Point<3>                            unit;  ///< in the reference cell
+      double                                      angle; ///< of the point about z [rad]
+    };
+
+    /// The cell of body @p body nearest to @p p in unit coordinates (ties:
+    /// lower cell index) and the unit point, moved into the reference cell;
+    /// @p distance: how far outside the reference cell p was.
+    BorePoint
+    locate(const dealii::Point<3> &p, const unsigned int body, double &distance) const;
+
+    /// sigma_r, sigma_t, sigma_z, von Mises at each point of @p points
+    /// (zero where the cell is not owned).
+    void
+    evaluate(const std::vector<BorePoint>             &points,
+             const dealii::PETScWrappers::MPI::Vector &u,
+             std::vector<double>                      &values) const;
+
+    const Discretization &model;
+    std::vector<Fit>     fit_list;
+    /// per interface: the 8 points of the hub [0] and of the shaft [1]
+    std::vector<std::array<std::vector<BorePoint>, 2>> points;
+  };
+} // namespace rotorfit
