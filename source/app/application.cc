@@ -314,7 +314,7 @@ namespace rotorfit
             {
               log << "Fit loose at rest: " << e.what() << '\n';
               *loose_at_rest = e.what();
-              return stop("loose at rest", exit_code::success, "", e.what());
+              return stop("loose_at_rest", exit_code::success, "", e.what());
             }
           if (root)
             std::cerr << "rotorfit: error: " << e.what() << '\n';
@@ -363,6 +363,14 @@ namespace rotorfit
           const auto       problem = open_case(prm, options, comm, quiet);
           study     = std::make_unique<FitCases>(problem->discretization());
           directory = problem->output_directory();
+          if (study->list().size() > 1 && !options.validate &&
+              Utilities::MPI::this_mpi_process(comm) == 0)
+            {
+              // the study as given: each case's folder has its own
+              std::filesystem::create_directories(directory);
+              std::ofstream out(directory + "/parameters.prm");
+              prm.print_parameters(out, ParameterHandler::ShortPRM);
+            }
         }
       catch (...)
         {

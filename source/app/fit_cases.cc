@@ -103,7 +103,7 @@ namespace rotorfit
   {
     Outcome &o = outcomes[k];
     o.code     = 0;
-    o.status   = "loose at rest";
+    o.status   = "loose_at_rest";
     o.message  = message;
     // nothing holds the hub: it has lost its fit and slips at rest
     for (const auto &f : interfaces)

@@ -109,7 +109,11 @@ namespace rotorfit
               state.contact.force[i] * std::hypot(list[i].position[0], list[i].position[1]);
           }
       }
-    const auto bores = stress->bore(u);
+    std::vector<double> pressure(list.size(), 0.);
+    for (unsigned int i = 0; i < list.size(); ++i)
+      if (state.contact.active[i])
+        pressure[i] = state.contact.pressure[i];
+    const auto bores = stress->bore(u, pressure);
     state.fits.clear();
     for (unsigned int f = 0; f < n_f; ++f)
       {

@@ -22,6 +22,8 @@ namespace rotorfit
 {
   using namespace dealii;
 
+
+
   namespace
   {
     /// 'machine' or a finite number > 0 (Resources/Memory limit).
@@ -144,12 +146,19 @@ namespace rotorfit
     for (unsigned int i = 0; i < contact_pairs.n_interfaces(); ++i)
       log << "Interface " << interface_list.list()[i].name << ": "
           << contact_pairs.pairs_of(i).size() << " node pairs, area "
-          << contact_pairs.area(i) * 1e6 << " mm^2, " << interface_list.list()[i].fit.describe()
-          << ", diameter " << contact_pairs.geometry(i).diameter * 1e3
-          << " mm, effective radial interference "
-          << contact_pairs.geometry(i).radial_interference * 1e6 << " um"
+          << contact_pairs.area(i) * 1e6 << " mm^2, "
+          << (interface_list.list()[i].fit.toleranced() ?
+                interface_list.list()[i].fit.describe() + " at " +
+                  format_number(contact_pairs.geometry(i).diameter * 1e3) + " mm (" +
+                  (interface_list.interference_case() == FitSpecification::Case::smallest ?
+                     "smallest" :
+                     "largest") +
+                  " interference, smoothed), " :
+                std::string())
+          << "radial interference " << contact_pairs.geometry(i).radial_interference * 1e6
+          << " um"
           << (contact_pairs.geometry(i).thermal_shift != 0 ?
-                ", " + std::to_string(contact_pairs.geometry(i).thermal_shift * 1e6) +
+                ", " + format_number(contact_pairs.geometry(i).thermal_shift * 1e6) +
                   " um by the temperatures" :
                 std::string())
           << "\n";

@@ -15,14 +15,34 @@ namespace rotorfit
 
   namespace
   {
-    /// von Mises stress [Pa] from the displacement gradient, per body.
-    class VonMises : public DataPostprocessorScalar<3>
+    /// The stress fields [Pa] from the displacement gradient, per body: von
+    /// Mises, and the radial, hoop and axial components about the spin axis
+    /// (the ones a fit is designed with).
+    class StressFields : public DataPostprocessor<3>
     {
     public:
-      explicit VonMises(const Bodies &bodies)
-        : DataPostprocessorScalar<3>("von_mises_Pa", update_gradients)
-        , bodies(bodies)
+      explicit StressFields(const Bodies &bodies)
+        : bodies(bodies)
       {}
+
+      std::vector<std::string>
+      get_names() const override
+      {
+        return {"von_mises_Pa", "radial_stress_Pa", "hoop_stress_Pa", "axial_stress_Pa"};
+      }
+
+      std::vector<DataComponentInterpretation::DataComponentInterpretation>
+      get_data_component_interpretation() const override
+      {
+        return std::vector<DataComponentInterpretation::DataComponentInterpretation>(
+          4, DataComponentInterpretation::component_is_scalar);
+      }
+
+      UpdateFlags
+      get_needed_update_flags() const override
+      {
+        return update_gradients | update_quadrature_points;
+      }
 
       void
       evaluate_vector_field(const DataPostprocessorInputs::Vector<3> &inputs,
@@ -41,6 +61,15 @@ namespace rotorfit
               2 * body.mu() * eps;
             const SymmetricTensor<2, 3> s = deviator(sigma);
             computed[q](0) = std::sqrt(1.5 * scalar_product(s, s));
+            // on the axis the radial direction is undefined: x's
+            const Point<3> &x = inputs.evaluation_points[q];
+            const double    r = std::hypot(x[0], x[1]);
+            const Tensor<1, 3> e_r = r > 0 ? Tensor<1, 3>({x[0] / r, x[1] / r, 0.}) :
+                                             Tensor<1, 3>({1., 0., 0.});
+            const Tensor<1, 3> e_t({-e_r[1], e_r[0], 0.});
+            computed[q](1) = e_r * (sigma * e_r);
+            computed[q](2) = e_t * (sigma * e_t);
+            computed[q](3) = sigma[2][2];
           }
       }
 
@@ -93,8 +122,8 @@ namespace rotorfit
                              {"contact_closed", "contact_pressure_Pa", "contact_gap_m"},
                              DataOut<3>::type_dof_data,
                              scalar3);
-    VonMises von_mises(model.bodies());
-    data_out.add_data_vector(u, von_mises);
+    StressFields stress(model.bodies());
+    data_out.add_data_vector(u, stress);
     data_out.add_data_vector(body, "body", DataOut<3>::type_cell_data);
     data_out.build_patches(model.mesh().mapping(), model.element_order());
 

@@ -112,6 +112,19 @@ namespace rotorfit
           }
         fit.radius /= pairs.pairs_of(f).size();
         const double z = fit.z_mid();
+        // the traction of the hub's bore at the mid-plane: the mean pressure
+        // of a ring of pairs there (one pair's pressure oscillates between
+        // the vertex and edge nodes of quadratic elements), at least the
+        // ring nearest to the mid-plane, at most an eighth of the fit's length
+        double nearest = std::numeric_limits<double>::max();
+        for (const auto p : pairs.pairs_of(f))
+          nearest = std::min(nearest, std::abs(list[p].position[2] - z));
+        const double band = std::max(0.125 * (fit.z_max - fit.z_min), nearest * (1 + 1e-9) + 1e-12);
+        std::vector<unsigned int> ring_pairs;
+        for (const auto p : pairs.pairs_of(f))
+          if (std::abs(list[p].position[2] - z) <= band)
+            ring_pairs.push_back(p);
+        ring.push_back(ring_pairs);
 
         // shaft: solid if the axis at z_mid is inside it; else its bore is
         // the smallest vertex radius of its cells that span z_mid
@@ -153,7 +166,9 @@ namespace rotorfit
                                        " m, z = " + std::to_string(z) + " m of interface " +
                                        model.interfaces().list()[f].name + " is in no cell of body " +
                                        model.bodies()[body].name));
-                b.angle = phi;
+                b.angle   = phi;
+                b.surface = side == 0 || fit.shaft_bore > 0;
+                b.pair    = side == 0 ? 0 : -1; // the hub's bore carries the fit's pressure
                 bore_points[side].push_back(b);
               }
           }
@@ -213,6 +228,7 @@ namespace rotorfit
   void
   BodyStress::evaluate(const std::vector<BorePoint>   &bore_points,
                        const PETScWrappers::MPI::Vector &u,
+                       const double                      ring_pressure,
                        std::vector<double>              &values) const
   {
     const FEValuesExtractors::Vector displacement(0);
@@ -226,24 +242,50 @@ namespace rotorfit
                                   Quadrature<3>(std::vector<Point<3>>(1, b.unit)), update_gradients);
             fe_values.reinit(b.cell);
             fe_values[displacement].get_function_gradients(u, grad);
-            const SymmetricTensor<2, 3> sigma = stress(grad[0], model.bodies()[b.cell->material_id()]);
+            const Body                 &body  = model.bodies()[b.cell->material_id()];
+            const SymmetricTensor<2, 3> sigma = stress(grad[0], body);
             const Tensor<1, 3> e_r({std::cos(b.angle), std::sin(b.angle), 0.});
             const Tensor<1, 3> e_t({-std::sin(b.angle), std::cos(b.angle), 0.});
-            v = {{e_r * (sigma * e_r), e_t * (sigma * e_t), sigma[2][2], von_mises(sigma)}};
+            const Tensor<1, 3> e_z({0., 0., 1.});
+            if (!b.surface)
+              v = {{e_r * (sigma * e_r), e_t * (sigma * e_t), sigma[2][2], von_mises(sigma)}};
+            else
+              {
+                // the strains along the surface and its traction (see bore())
+                const SymmetricTensor<2, 3> eps  = symmetrize(grad[0]);
+                const double                e_tt = e_t * (eps * e_t), e_zz = e_z * (eps * e_z);
+                const double                e_tz = e_t * (eps * e_z);
+                const double                lambda = body.lambda(), mu = body.mu();
+                const double s_r  = b.pair >= 0 ? -ring_pressure : 0.;
+                const double e_rr = (s_r - lambda * (e_tt + e_zz)) / (lambda + 2 * mu);
+                const double tr   = e_rr + e_tt + e_zz;
+                const double s_t  = lambda * tr + 2 * mu * e_tt;
+                const double s_z  = lambda * tr + 2 * mu * e_zz;
+                const double t_tz = 2 * mu * e_tz;
+                const double vm   = std::sqrt(s_r * s_r + s_t * s_t + s_z * s_z - s_r * s_t -
+                                            s_t * s_z - s_z * s_r + 3 * t_tz * t_tz);
+                v = {{s_r, s_t, s_z, vm}};
+              }
           }
         values.insert(values.end(), v.begin(), v.end());
       }
   }
 
   std::vector<BodyStress::FitBore>
-  BodyStress::bore(const PETScWrappers::MPI::Vector &u) const
+  BodyStress::bore(const PETScWrappers::MPI::Vector &u,
+                   const std::vector<double>        &pair_pressure) const
   {
     // 4 values per point, 8 points per side, hub then shaft, per interface;
     // each point from its owner only, so the sum over the ranks is exact
     std::vector<double> values;
-    for (const auto &sides : points)
-      for (const auto &side : sides)
-        evaluate(side, u, values);
+    for (unsigned int f = 0; f < points.size(); ++f)
+      {
+        double p = 0;
+        for (const auto i : ring[f])
+          p += pair_pressure[i] / ring[f].size();
+        for (const auto &side : points[f])
+          evaluate(side, u, p, values);
+      }
     const int ierr = MPI_Allreduce(MPI_IN_PLACE, values.data(), values.size(), MPI_DOUBLE, MPI_SUM,
                                    model.mpi_communicator());
     AssertThrowMPI(ierr);

@@ -15,7 +15,7 @@ namespace rotorfit
 {
   /**
    * The ParaView files (zlib-compressed .vtu): per chosen speed one
-   * solution_*.pvtu (displacement, von Mises stress, body, contact status,
+   * solution_*.pvtu (displacement, von Mises, radial, hoop and axial stress, body, contact status,
    * pressure and gap on the curved cells) indexed by solution.pvd, and one
    * modes_*.pvtu (real and imaginary parts of every elastic mode, the tied
    * pairs; on the cells' vertices, a third of the size) indexed by
