@@ -36,6 +36,8 @@ tests/CMakeLists.txt, and so is each test's kind (its CTest label).
       lines), in order.
   run_test.py parameters_doc GENERATED DOC
       DOC equals GENERATED (the build's parameters.md).
+  run_test.py slip_steps EXE PRM OUTDIR INTERFACE RTOL [SETS...]
+      the slip speed with 2 speeds and with a dense list agrees (exact path).
   run_test.py valid EXE PRM
       --validate accepts PRM.
   run_test.py ratio EXE PRM_A OUT_A PRM_B OUT_B KEY EXPECTED RTOL
@@ -368,6 +370,30 @@ def path_steps(exe, prm, outdir, interface, *sets):
     return 1 if bad else 0
 
 
+def slip_steps(exe, prm, outdir, interface, rtol, *sets):
+    """The slip speed on the exact path does not depend on the speeds asked
+    for: PRM (with --set SETS) run with the speeds 0 and 30,000 r/min only
+    and with a dense list; the slip speed must lie inside the fit's opening
+    band (so that the path's changes between two speeds are crossed) and
+    agree within RTOL."""
+    found = []
+    for name, speeds in (("two", "0, 30000"),
+                         ("dense", "0, 10000, 20000, 22000, 22500, 22700, 22800, 22850, 22900, 30000")):
+        out = os.path.join(outdir, name)
+        run(exe, case(prm, out, [*sets, "Speeds/Mode=list", "Speeds/List=" + speeds,
+                                 "Contact/Speed path=exact"]))
+        found.append([summary_value(out, f"interface.{interface}.{k}")
+                      for k in ("slip_rpm", "first_opening_rpm", "loss_of_fit_rpm")])
+        print(f"{name} speeds: slip, first opening, loss of fit {found[-1]}")
+    (slip_a, first, full), (slip_b, _, _) = found
+    inside = first < slip_a < full
+    same = abs(slip_a / slip_b - 1) <= float(rtol)
+    print("slip speed inside the opening band:", "ok" if inside else "FAILED")
+    print(f"slip speed {slip_a} (2 speeds) vs {slip_b} (dense), rtol {rtol}:",
+          "ok" if same else "FAILED")
+    return 0 if inside and same else 1
+
+
 def paths(exe, prm, outdir, columns, rtol, *sets):
     """PRM (with --set SETS) on the exact path and on the sampled path with a
     factorisation per active set: COLUMNS of contact.csv as in same_columns."""
@@ -692,6 +718,8 @@ if __name__ == "__main__":
         sys.exit(falls(*args))
     elif mode == "softening":
         sys.exit(softening(*args))
+    elif mode == "slip_steps":
+        sys.exit(slip_steps(*args))
     elif mode == "paths":
         sys.exit(paths(*args))
     elif mode == "path_steps":
