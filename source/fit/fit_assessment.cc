@@ -186,7 +186,20 @@ namespace rotorfit
         state.fits.push_back(row);
       }
 
-    const auto peaks = stress->max_von_mises(u);
+    // the cells' quadrature points lie inside; the bores' nominal points
+    // on the surface, where a fit's stress is largest: both count
+    auto peaks = stress->max_von_mises(u);
+    for (unsigned int f = 0; f < n_f; ++f)
+      {
+        const auto &g   = pairs.geometry(f);
+        const double z  = 0.5 * (g.z_min + g.z_max);
+        const auto   on = [&](const unsigned int body, const BodyStress::BoreStress &bore) {
+          if (bore.von_mises > peaks[body].von_mises)
+            peaks[body] = BodyStress::Peak{bore.von_mises, Point<3>(bore.radius, 0., z)};
+        };
+        on(g.hub_body, bores[f].hub);
+        on(g.shaft_body, bores[f].shaft);
+      }
     state.body_stresses.clear();
     for (unsigned int b = 0; b < bodies.size(); ++b)
       {

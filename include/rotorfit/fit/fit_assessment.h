@@ -19,7 +19,7 @@ namespace rotorfit
    * pairs, mu sum N_i r_i (torque) and mu sum N_i (axial), the safety
    * against slip under the given torque and axial force, and the speed at
    * which it falls to 1; the nominal bore stresses of hub and shaft and
-   * their safety against yield; per body the largest von Mises stress.
+   * their safety against yield; per body the largest von Mises stress (over the cells' quadrature points and the bores' nominal points).
    *
    * The slip speed is exact on the exact path: between two changes of the
    * closed set the forces are affine in Omega^2, and the path reports the

@@ -47,7 +47,7 @@ namespace rotorfit
   struct BodyStressRow
   {
     std::string      name;
-    double           max_von_mises = 0; ///< over the cell quadrature points [Pa]
+    double           max_von_mises = 0; ///< over the cell quadrature points and the bore points [Pa]
     dealii::Point<3> location;
     double           yield_safety = 0; ///< Rp0.2 / max (NaN: no Rp0.2)
   };
