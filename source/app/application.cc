@@ -397,6 +397,8 @@ namespace rotorfit
             {
               if (code != exit_code::success)
                 return code;
+              if (!loose.empty())
+                log << "(the study records this case as loose at rest)\n";
               continue;
             }
           if (!loose.empty())

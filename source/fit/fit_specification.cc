@@ -190,14 +190,20 @@ namespace rotorfit
     const double u = U - smoothing();
     if (!(u > 0))
       {
+        // a loose end of a band (a transition fit) is a result of a study,
+        // recorded there; a single run refuses it
         std::ostringstream m;
         m << std::setprecision(4) << where << ": the " << describe() << " at "
           << diameter * 1e3 << " mm gives a " << (c == Case::smallest ? "smallest " : "")
-          << "diametral interference of " << U * 1e6 << " um, and smoothing by the roughness "
-          << "(0.8 (Rz_shaft + Rz_hub) = " << smoothing() * 1e6
-          << " um) leaves no interference: the fit is loose. Choose a tighter fit or smoother "
-             "surfaces.";
-        throw InputError(m.str());
+          << "diametral interference of " << U * 1e6 << " um";
+        if (smoothing() > 0)
+          m << ", and smoothing by the roughness (0.8 (Rz_shaft + Rz_hub) = " << smoothing() * 1e6
+            << " um) leaves no interference: the fit is loose. Choose a tighter fit or smoother "
+               "surfaces.";
+        else
+          m << ": the fit has clearance there (a transition or clearance fit), nothing holds the "
+               "hub. Choose an interference fit.";
+        throw FitLooseAtRest(m.str());
       }
     return 0.5 * u;
   }
