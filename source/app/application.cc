@@ -412,6 +412,9 @@ namespace rotorfit
         return exit_code::success;
       const int code = study->finish(directory, comm);
       log << "Fit study: fit_cases.csv and summary.txt in " << directory << '\n';
+      if (code == exit_code::input_error && Utilities::MPI::this_mpi_process(comm) == 0)
+        std::cerr << "rotorfit: error: the fit is loose at rest in every case of the study; "
+                     "nothing was solved (fit_cases.csv).\n";
       return code;
     }
   } // namespace

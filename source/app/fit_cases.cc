@@ -78,7 +78,9 @@ namespace rotorfit
         std::ostringstream s;
         for (const auto &b : model.bodies().list())
           s << (s.str().empty() ? "" : "; ") << b.name << ' '
-            << b.temperatures[b.temperatures.size() == 1 ? 0 : t] << " C";
+            << (b.temperatures.empty() ? model.interfaces().reference_temperature() :
+                                         b.temperatures[b.temperatures.size() == 1 ? 0 : t])
+            << " C";
         outcomes[k].keys["temperatures"] = s.str();
       }
   }
@@ -110,6 +112,9 @@ namespace rotorfit
       {
         o.keys["interface." + f + ".loss_of_fit_rpm"] = "0";
         o.keys["interface." + f + ".slip_rpm"]        = "0";
+        o.keys["interface." + f + ".slip_safety_first_speed"] = "0";
+        o.keys["interface." + f + ".torque_capacity_first_speed_Nm"] = "0";
+        o.keys["interface." + f + ".mean_pressure_first_speed_Pa"]   = "0";
       }
   }
 
@@ -120,21 +125,32 @@ namespace rotorfit
     for (const auto &o : outcomes)
       if (o.code != exit_code::success && o.code != -1 && code == exit_code::success)
         code = o.code;
+    // nothing was solved: the fit holds in no case
+    const bool all_loose = std::all_of(outcomes.begin(), outcomes.end(), [](const Outcome &o) {
+      return o.status == "loose_at_rest";
+    });
+    if (all_loose)
+      code = exit_code::input_error;
     if (Utilities::MPI::this_mpi_process(comm) != 0)
       return code;
     std::filesystem::create_directories(directory);
     std::ofstream table(directory + "/fit_cases.csv");
-    table << "case,status,temperatures,interface,radial_interference_m,thermal_shift_m,"
-             "mean_pressure_first_speed_Pa,first_opening_rpm,loss_of_fit_rpm,slip_rpm,"
-             "slip_safety_least,hub_bore_von_mises_max_Pa,shaft_bore_von_mises_max_Pa\n"
+    table << "case,status,temperatures,interface,radial_interference_at_reference_m,"
+             "thermal_shift_m,mean_pressure_first_speed_Pa,torque_capacity_first_speed_Nm,"
+             "slip_safety_first_speed,first_opening_rpm,loss_of_fit_rpm,slip_rpm,"
+             "hub_bore_von_mises_first_speed_Pa,shaft_bore_von_mises_first_speed_Pa,"
+             "hub_bore_von_mises_max_Pa,shaft_bore_von_mises_max_Pa\n"
           << std::setprecision(8);
-    const std::vector<std::string> columns = {"radial_interference_m",
+    const std::vector<std::string> columns = {"radial_interference_at_reference_m",
                                               "thermal_shift_m",
                                               "mean_pressure_first_speed_Pa",
+                                              "torque_capacity_first_speed_Nm",
+                                              "slip_safety_first_speed",
                                               "first_opening_rpm",
                                               "loss_of_fit_rpm",
                                               "slip_rpm",
-                                              "slip_safety_least",
+                                              "hub_bore_von_mises_first_speed_Pa",
+                                              "shaft_bore_von_mises_first_speed_Pa",
                                               "hub_bore_von_mises_max_Pa",
                                               "shaft_bore_von_mises_max_Pa"};
     for (unsigned int k = 0; k < cases.size(); ++k)
@@ -180,10 +196,15 @@ namespace rotorfit
     for (const auto &f : interfaces)
       {
         const std::string p = "interface." + f + ".";
-        for (const char *k : {"mean_pressure_first_speed_Pa", "first_opening_rpm",
-                              "loss_of_fit_rpm", "slip_rpm", "slip_safety_least"})
+        // at rest: what the fit carries and the stress it puts in while it
+        // holds; over the speeds: where it lets go
+        for (const char *k : {"mean_pressure_first_speed_Pa", "torque_capacity_first_speed_Nm",
+                              "slip_safety_first_speed", "first_opening_rpm", "loss_of_fit_rpm",
+                              "slip_rpm"})
           govern(p + k, true);
-        for (const char *k : {"hub_bore_von_mises_max_Pa", "shaft_bore_von_mises_max_Pa"})
+        for (const char *k : {"hub_bore_von_mises_first_speed_Pa",
+                              "shaft_bore_von_mises_first_speed_Pa", "hub_bore_von_mises_max_Pa",
+                              "shaft_bore_von_mises_max_Pa"})
           govern(p + k, false);
       }
     for (const auto &b : bodies)
@@ -192,7 +213,13 @@ namespace rotorfit
         govern("body." + b + ".yield_safety_least", true);
       }
     summary << "run.status "
-            << (code == exit_code::success ? "completed" : "failed") << '\n';
+            << (all_loose                    ? "refused" :
+                code == exit_code::success ? "completed" :
+                                              "failed")
+            << '\n';
+    if (all_loose)
+      summary << "run.message the fit is loose at rest in every case; nothing was solved\n";
+    summary << "run.exit_code " << code << '\n';
     return code;
   }
 } // namespace rotorfit

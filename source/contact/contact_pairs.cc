@@ -69,7 +69,7 @@ namespace rotorfit
                       "expansion coefficient times the difference.");
     prm.declare_entry("Interference cases",
                       "smallest, largest",
-                      Patterns::MultipleSelection("smallest|largest"),
+                      Patterns::List(Patterns::Selection("smallest|largest"), 1, 2),
                       "Which ends of a toleranced fit's band (ISO fit, Limit "
                       "deviations) are run, one case each: the smallest "
                       "interference governs slip and the loss of fit, the "

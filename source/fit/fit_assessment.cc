@@ -232,7 +232,7 @@ namespace rotorfit
         const std::string key = "interface." + def.name + ".";
         summary.add(key + "fit_given", def.fit.describe());
         summary.add(key + "diameter_m", g.diameter);
-        summary.add(key + "radial_interference_m", g.radial_interference);
+        summary.add(key + "radial_interference_at_reference_m", g.radial_interference);
         summary.add(key + "thermal_shift_m", g.thermal_shift);
         const auto &hub = bodies[g.hub_body];
         if (hub.expansion)
@@ -262,6 +262,7 @@ namespace rotorfit
                 summary.add(key + "axial_load_N", def.fit.axial_load());
                 summary.add(key + "torque_capacity_first_speed_Nm", r.torque_capacity);
                 summary.add(key + "axial_capacity_first_speed_N", r.axial_capacity);
+                summary.add(key + "slip_safety_first_speed", r.slip_safety);
                 summary.add(key + "slip_safety_least", least_safety[f]);
                 summary.add(key + "slip_safety_least_at_rpm", least_safety_rpm[f]);
                 summary.add(key + "slip_rpm", slip_rpm[f]);

@@ -45,7 +45,8 @@ namespace rotorfit
                       patterns::Mandatory(patterns::Positive()),
                       "Interference on the radius (half the diametral "
                       "interference) [m], > 0, at the reference temperature "
-                      "(subsection Fit design). Both bodies are meshed at "
+                      "(subsection Fit design), as measured: Roughness Rz "
+                      "smoothing is taken off it. Both bodies are meshed at "
                       "the same nominal radius (numerical interference). Give "
                       "exactly one of this, 'ISO fit' and 'Limit deviations'.");
     prm.declare_entry("ISO fit",
@@ -194,7 +195,7 @@ namespace rotorfit
         // recorded there; a single run refuses it
         std::ostringstream m;
         m << std::setprecision(4) << where << ": the " << describe() << " at "
-          << diameter * 1e3 << " mm gives a " << (c == Case::smallest ? "smallest " : "")
+          << diameter * 1e3 << " mm gives a " << (toleranced() && c == Case::smallest ? "smallest " : "")
           << "diametral interference of " << U * 1e6 << " um";
         if (smoothing() > 0)
           m << ", and smoothing by the roughness (0.8 (Rz_shaft + Rz_hub) = " << smoothing() * 1e6

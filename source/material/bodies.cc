@@ -68,9 +68,10 @@ namespace rotorfit
                           "than balsa, polymers and metals) a warning: g/cm^3 for "
                           "kg/m^3? Mandatory.");
         prm.declare_entry("Temperature",
-                          "20",
-                          Patterns::List(Patterns::Double(-273.15), 1),
-                          "Uniform operating temperature [deg C]. A list gives "
+                          "",
+                          Patterns::List(Patterns::Double(-273.15), 0),
+                          "Uniform operating temperature [deg C] (empty: Fit "
+                          "design/Reference temperature). A list gives "
                           "temperature cases, run one after the other (each "
                           "body's list has one entry or as many as the longest; "
                           "Fit design/Temperature case picks one).");
@@ -144,6 +145,11 @@ namespace rotorfit
           b.temperatures.push_back(std::stod(t));
         b.expansion      = optional_value(prm, name, "Thermal expansion coefficient", 1e-3, " 1/K");
         b.yield_strength = optional_value(prm, name, "Yield strength", 1e11, " Pa");
+        if (b.yield_strength && *b.yield_strength < 1e6)
+          throw InputError(where_set("Body " + name + "/Yield strength") + "Body " + name +
+                           "/Yield strength = " + prm.get("Yield strength") +
+                           " Pa lies below 1 MPa, weaker than any structural material; it is "
+                           "in Pa (S235: 235e6, not 235).");
         // "FILE:LINE: Body NAME/ENTRY = VALUE UNIT"
         const auto entry = [&](const std::string &e, const std::string &unit) {
           const std::string path = "Body " + name + "/" + e;
@@ -192,12 +198,18 @@ namespace rotorfit
     const unsigned int k = prm.get_integer("Temperature case");
     prm.leave_subsection();
     const unsigned int n = n_temperature_cases();
+    std::string        longest;
+    for (const auto &b : bodies)
+      if (b.temperatures.size() == n && longest.empty())
+        longest = b.name;
     for (auto &b : bodies)
       {
+        if (b.temperatures.empty())
+          continue; // at the reference temperature in every case
         if (b.temperatures.size() != 1 && b.temperatures.size() != n)
           throw InputError(where_set("Body " + b.name + "/Temperature") + "Body " + b.name +
                            "/Temperature lists " + std::to_string(b.temperatures.size()) +
-                           " temperatures, another body " + std::to_string(n) +
+                           " temperatures, Body " + longest + " " + std::to_string(n) +
                            "; give one (for every case) or " + std::to_string(n) + ".");
         if (k > n)
           throw InputError("Fit design/Temperature case = " + std::to_string(k) +
@@ -222,6 +234,11 @@ namespace rotorfit
     std::vector<double> strain;
     for (const auto &b : bodies)
       {
+        if (b.temperatures.empty())
+          {
+            strain.push_back(0.);
+            continue;
+          }
         if (b.temperature != reference_temperature && !b.expansion)
           {
             std::ostringstream m;

@@ -319,16 +319,19 @@ namespace rotorfit
         const double strain = delta / r;
         std::ostringstream m;
         if (d.fit.toleranced())
-          m << "Interface " << d.name << ": the " << d.fit.describe()
-            << " gives a radial interference of " << delta << " m, which";
+          m << "Interface " << d.name << ": the radial interference of its " << d.fit.describe()
+            << ", " << delta << " m,";
         else
           m << "Interface " << d.name << "/Radial interference = " << delta << " m";
         m << " is " << std::setprecision(3) << 100 * strain << " % of the fit radius "
           << r * 1e3 << " mm";
         if (strain > 1e-2)
           throw InputError(m.str() + "; rotorfit's linear small-strain model holds below 1 % "
-                                     "(metals yield at 0.1 .. 0.5 %). Check the units (metres, "
-                                     "on the radius).");
+                                     "(metals yield at 0.1 .. 0.5 %). Check the units " +
+                           std::string(d.fit.toleranced() ?
+                                         "(Limit deviations are diametral, in metres: 21e-6 "
+                                         "for 21 um)." :
+                                         "(metres, on the radius)."));
         if (strain > 2e-3)
           log << "Warning: " << m.str()
               << ": above the elastic limit strain of most shaft and hub alloys (about "

@@ -18,7 +18,8 @@ namespace rotorfit
     double      density;        ///< rho [kg/m^3]
     /// operating temperature of this run's temperature case [deg C]
     double      temperature = 20;
-    /// every listed operating temperature [deg C] (one per temperature case)
+    /// every listed operating temperature [deg C] (one per temperature
+    /// case; empty: the reference temperature)
     std::vector<double> temperatures;
     /// linear thermal expansion coefficient [1/K], if given
     std::optional<double> expansion;
