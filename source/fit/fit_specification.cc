@@ -1,4 +1,5 @@
 #include <rotorfit/base/input_error.h>
+#include <rotorfit/base/optional_number.h>
 #include <rotorfit/base/patterns.h>
 #include <rotorfit/fit/fit_specification.h>
 #include <rotorfit/fit/iso286.h>
@@ -13,29 +14,6 @@ namespace rotorfit
 {
   using namespace dealii;
 
-  namespace
-  {
-    /// "none" or a number in (0, @p max], else InputError naming @p entry.
-    std::optional<double>
-    optional_positive(const std::string &value, const std::string &entry, const double max,
-                      const std::string &unit)
-    {
-      const std::string v = Utilities::trim(value);
-      if (v == "none")
-        return std::nullopt;
-      std::istringstream in(v);
-      double             x = 0;
-      in >> x;
-      if (in.fail() || !in.eof() || !std::isfinite(x) || !(x > 0) || x > max)
-        {
-          std::ostringstream m;
-          m << entry << " = '" << value << "': give 'none' or a number in (0, " << max << "]"
-            << unit << '.';
-          throw InputError(m.str());
-        }
-      return x;
-    }
-  } // namespace
 
   void
   FitSpecification::declare_parameters(ParameterHandler &prm)
@@ -135,7 +113,7 @@ namespace rotorfit
     rz_shaft      = std::stod(rz[0]);
     rz_hub        = std::stod(rz[1]);
     friction_coefficient =
-      optional_positive(prm.get("Friction coefficient"), where + "/Friction coefficient", 1.5, "");
+      optional_number(prm.get("Friction coefficient"), where + "/Friction coefficient", 1.5, "");
     torque      = prm.get_double("Torque");
     axial_force = prm.get_double("Axial force");
     clearance   = prm.get_double("Assembly clearance");

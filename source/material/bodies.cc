@@ -1,4 +1,5 @@
 #include <rotorfit/base/input_error.h>
+#include <rotorfit/base/optional_number.h>
 #include <rotorfit/base/parameter_file.h>
 #include <rotorfit/base/patterns.h>
 #include <rotorfit/material/bodies.h>
@@ -90,29 +91,6 @@ namespace rotorfit
       }
   }
 
-  namespace
-  {
-    /// "none" or a number in (0, @p max] of entry @p e of body @p name.
-    std::optional<double>
-    optional_value(const ParameterHandler &prm, const std::string &name, const std::string &e,
-                   const double max, const std::string &unit)
-    {
-      const std::string v = Utilities::trim(prm.get(e));
-      if (v == "none")
-        return std::nullopt;
-      std::istringstream in(v);
-      double             x = 0;
-      in >> x;
-      if (in.fail() || !in.eof() || !std::isfinite(x) || !(x > 0) || x > max)
-        {
-          std::ostringstream m;
-          m << where_set("Body " + name + "/" + e) << "Body " << name << "/" << e << " = " << v
-            << ": give 'none' or a number in (0, " << max << "]" << unit << '.';
-          throw InputError(m.str());
-        }
-      return x;
-    }
-  } // namespace
 
   void
   Bodies::parse_parameters(ParameterHandler &prm)
@@ -143,8 +121,12 @@ namespace rotorfit
         b.density        = prm.get_double("Density");
         for (const auto &t : Utilities::split_string_list(prm.get("Temperature"), ','))
           b.temperatures.push_back(std::stod(t));
-        b.expansion      = optional_value(prm, name, "Thermal expansion coefficient", 1e-3, " 1/K");
-        b.yield_strength = optional_value(prm, name, "Yield strength", 1e11, " Pa");
+        const auto optional = [&](const std::string &e, const double max, const std::string &unit) {
+          const std::string path = "Body " + name + "/" + e;
+          return optional_number(prm.get(e), where_set(path) + path, max, unit);
+        };
+        b.expansion      = optional("Thermal expansion coefficient", 1e-3, " 1/K");
+        b.yield_strength = optional("Yield strength", 1e11, " Pa");
         if (b.yield_strength && *b.yield_strength < 1e6)
           throw InputError(where_set("Body " + name + "/Yield strength") + "Body " + name +
                            "/Yield strength = " + prm.get("Yield strength") +
