@@ -226,8 +226,62 @@ namespace rotorfit
         InterfaceSides sides;
         collect_sides(mesh, dof_handler, support_points, def, sides);
         const auto pair_of = match_sides(f, def, sides, mesh.matching_tolerance(), mesh.coincidence_hint());
-        set_interference(f, def, interface_list.interference_case(), sides, free_thermal_strain);
+        std::map<types::global_dof_index, unsigned int> body_of_hub_dof;
+        for (const auto &[dof, p] : sides.side[1])
+          body_of_hub_dof[p.dofs[0]] = p.body;
+        std::vector<unsigned int> shaft_body, hub_body;
+        for (const auto i : surfaces[f].pairs)
+          {
+            shaft_body.push_back(sides.side[0].at(pair_list[i].shaft_dofs[0]).body);
+            hub_body.push_back(body_of_hub_dof.at(pair_list[i].hub_dofs[0]));
+          }
+        set_interference(f, def, interface_list.interference_case(), shaft_body, hub_body,
+                         free_thermal_strain);
         assemble_surface(f, sides, pair_of, mesh, dof_handler.get_fe());
+      }
+  }
+
+  void
+  ContactPairs::build_rings(const ContactInterfaces    &interface_list,
+                            std::vector<RingInterface> &&rings,
+                            const std::vector<double>   &free_thermal_strain)
+  {
+    const auto &interfaces = interface_list.list();
+    pair_list.clear();
+    surfaces.clear();
+    surfaces.resize(interfaces.size());
+    for (unsigned int f = 0; f < interfaces.size(); ++f)
+      {
+        RingInterface &ring    = rings[f];
+        Surface       &surface = surfaces[f];
+        const unsigned int n   = ring.pairs.size();
+        for (auto &pair : ring.pairs)
+          {
+            pair.interface = f;
+            surface.pairs.push_back(pair_list.size());
+            pair_list.push_back(pair);
+          }
+        set_interference(f, interfaces[f], interface_list.interference_case(), ring.shaft_body,
+                         ring.hub_body, free_thermal_strain);
+        DynamicSparsityPattern dsp(n, n);
+        for (const auto &face : ring.faces)
+          for (const auto i : face)
+            for (const auto j : face)
+              dsp.add(i, j);
+        surface.pattern.copy_from(dsp);
+        surface.mass.reinit(surface.pattern);
+        for (unsigned int k = 0; k < ring.faces.size(); ++k)
+          {
+            const auto &face = ring.faces[k];
+            for (unsigned int i = 0; i < face.size(); ++i)
+              for (unsigned int j = 0; j < face.size(); ++j)
+                surface.mass.add(face[i], face[j], ring.face_mass[k](i, j));
+            surface.area += ring.face_area[k];
+          }
+        surface.faces     = std::move(ring.faces);
+        surface.face_area = std::move(ring.face_area);
+        surface.inverse   = std::make_shared<SparseDirectUMFPACK>();
+        surface.inverse->initialize(surface.mass);
       }
   }
 
@@ -298,11 +352,12 @@ namespace rotorfit
   }
 
   void
-  ContactPairs::set_interference(const unsigned int           f,
-                                 const InterfaceDefinition   &def,
-                                 const FitSpecification::Case c,
-                                 const InterfaceSides        &sides,
-                                 const std::vector<double>   &free_thermal_strain)
+  ContactPairs::set_interference(const unsigned int               f,
+                                 const InterfaceDefinition       &def,
+                                 const FitSpecification::Case     c,
+                                 const std::vector<unsigned int> &shaft_body,
+                                 const std::vector<unsigned int> &hub_body,
+                                 const std::vector<double>       &free_thermal_strain)
   {
     FitGeometry &g = surfaces[f].geometry;
     g.r_min = g.z_min = std::numeric_limits<double>::max();
@@ -330,12 +385,12 @@ namespace rotorfit
         throw InputError(m.str());
       }
     g.radial_interference = def.fit.effective_radial_interference(g.diameter, c);
-    // the body holding most of each side's points (ties: the lower id)
+    // the body holding most of each side's pairs (ties: the lower id)
     for (unsigned int s = 0; s < 2; ++s)
       {
         std::map<unsigned int, unsigned int> count;
-        for (const auto &[dof, p] : sides.side[s])
-          ++count[p.body];
+        for (const auto b : (s == 0 ? shaft_body : hub_body))
+          ++count[b];
         const unsigned int body =
           std::max_element(count.begin(), count.end(), [](const auto &a, const auto &b) {
             return a.second < b.second;
@@ -349,18 +404,13 @@ namespace rotorfit
     // supports expands freely and without stress, u_r = eps r: the hub's
     // bore moves out by eps_hub r, the shaft's surface by eps_shaft r
     g.thermal_shift = -r_mean * (strain(g.hub_body) - strain(g.shaft_body));
-    std::map<types::global_dof_index, unsigned int> body_of_hub_dof;
-    for (const auto &[dof, p] : sides.side[1])
-      body_of_hub_dof[p.dofs[0]] = p.body;
     double smallest = std::numeric_limits<double>::max();
-    for (const auto i : surfaces[f].pairs)
+    for (unsigned int k = 0; k < surfaces[f].pairs.size(); ++k)
       {
-        ContactPair &pair = pair_list[i];
-        const unsigned int shaft_body = sides.side[0].at(pair.shaft_dofs[0]).body;
-        const unsigned int hub_body   = body_of_hub_dof.at(pair.hub_dofs[0]);
-        pair.interference             = g.radial_interference -
-                            radius(pair.position) * (strain(hub_body) - strain(shaft_body));
-        smallest = std::min(smallest, pair.interference);
+        ContactPair &pair = pair_list[surfaces[f].pairs[k]];
+        pair.interference = g.radial_interference -
+                            radius(pair.position) * (strain(hub_body[k]) - strain(shaft_body[k]));
+        smallest          = std::min(smallest, pair.interference);
       }
     if (!(smallest > 0))
       {

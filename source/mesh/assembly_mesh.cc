@@ -52,6 +52,14 @@ namespace rotorfit
                       "hexahedra that rotorfit builds from the axial sections of "
                       "every body (Body <name>/Sections, subsection Sections); no "
                       "Geometry file is needed.");
+    prm.declare_entry("Model",
+                      "3d",
+                      Patterns::Selection("3d|axisymmetric"),
+                      "3d: the bodies as solids (Mesher gmsh or sections). "
+                      "axisymmetric: the meridian plane (r, z) of the bodies' "
+                      "Sections in quadrilaterals and Fourier harmonics around "
+                      "the axis (subsection Harmonic model; doc/theory.md 14); "
+                      "needs Mesher = sections and a body of revolution.");
     SectionMesh::declare_parameters(prm);
     prm.declare_entry("Geometry file",
                       "",
@@ -90,6 +98,12 @@ namespace rotorfit
   {
     prm.enter_subsection("Geometry");
     use_sections = (prm.get("Mesher") == "sections");
+    axisymmetric = (prm.get("Model") == "axisymmetric");
+    if (axisymmetric && !use_sections)
+      throw InputError("Geometry/Model = axisymmetric meshes the meridian plane from the "
+                       "bodies' Sections, but Geometry/Mesher = gmsh gives a 3D mesh of the "
+                       "Geometry file; set Geometry/Mesher = sections (every body needs its "
+                       "Sections), or Geometry/Model = 3d for a body that is not of revolution.");
     order        = prm.get_integer("Element order");
     match_tol    = prm.get_double("Interface matching tolerance");
     if (use_sections)

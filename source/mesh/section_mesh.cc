@@ -1,6 +1,7 @@
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/base/patterns.h>
 #include <rotorfit/mesh/section_hexahedra.h>
+#include <rotorfit/mesh/section_quadrilaterals.h>
 #include <rotorfit/mesh/section_mesh.h>
 
 #include <deal.II/base/utilities.h>
@@ -330,17 +331,31 @@ namespace rotorfit
     name_boundaries(tria, names);
   }
 
-  std::optional<SectionMesh::Side>
-  SectionMesh::face_side(const Triangulation<3>::face_iterator &face,
-                         const unsigned int                     b,
-                         double                                &zm) const
+  void
+  SectionMesh::create_meridian(Triangulation<2>                                   &tria,
+                               std::map<types::boundary_id, std::set<std::string>> &names) const
   {
-    double z_lo = std::numeric_limits<double>::max(), z_hi = -z_lo, r = 0;
+    const SectionLayout layout = plan();
+    SectionQuadrilaterals(layout).create(tria);
+    name_boundaries(tria, names);
+  }
+
+  template <int dim>
+  std::optional<SectionMesh::Side>
+  SectionMesh::face_side(const typename Triangulation<dim>::face_iterator &face,
+                         const unsigned int                                b,
+                         double                                           &zm) const
+  {
+    double             z_lo = std::numeric_limits<double>::max(), z_hi = -z_lo, r = 0;
+    const unsigned int n    = face->n_vertices();
     for (const unsigned int v : face->vertex_indices())
       {
-        z_lo = std::min(z_lo, face->vertex(v)[2]);
-        z_hi = std::max(z_hi, face->vertex(v)[2]);
-        r += std::hypot(face->vertex(v)[0], face->vertex(v)[1]) / 4;
+        const Point<dim> &x = face->vertex(v);
+        // 3D: Cartesian; the meridian: x = r, y = z
+        const double radius = dim == 3 ? std::hypot(x[0], x[1]) : x[0];
+        z_lo = std::min(z_lo, x[dim - 1]);
+        z_hi = std::max(z_hi, x[dim - 1]);
+        r += radius / n;
       }
     zm               = 0.5 * (z_lo + z_hi);
     const double tol = 1e-9 * std::max(1., std::abs(zm));
@@ -356,8 +371,9 @@ namespace rotorfit
     return std::abs(r - s.ro(zm)) < std::abs(r - s.ri(zm)) ? Side::outer : Side::inner;
   }
 
+  template <int dim>
   void
-  SectionMesh::name_boundaries(Triangulation<3>                                   &tria,
+  SectionMesh::name_boundaries(Triangulation<dim>                                 &tria,
                                std::map<types::boundary_id, std::set<std::string>> &names) const
   {
     // boundary ids: one per distinct set of surface names
@@ -370,7 +386,7 @@ namespace rotorfit
             const auto   face = cell->face(f);
             const auto   b    = cell->material_id();
             double       zm   = 0;
-            const auto   side = face_side(face, b, zm);
+            const auto   side = face_side<dim>(face, b, zm);
             const double tol  = 1e-9 * std::max(1., std::abs(zm));
             std::set<std::string> set;
             for (const auto &[name, selectors] : surfaces)

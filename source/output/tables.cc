@@ -184,6 +184,31 @@ namespace rotorfit
   }
 
   void
+  HarmonicCampbellTable::open(const std::string &directory)
+  {
+    create(directory + "/campbell.csv", "speed_rpm,harmonic,mode,whirl,travel,frequency_hz,damping_ratio,"
+           "log_dec,stable,backward_error,forward_fraction,fit_state,static_converged", 10);
+  }
+
+  void
+  HarmonicCampbellTable::add(const StaticState &state, const std::vector<HarmonicMode> &modes)
+  {
+    if (!file.is_open())
+      return;
+    for (const auto &m : modes)
+      {
+        const double zeta   = -m.lambda.real() / std::abs(m.lambda);
+        const double logdec = -2 * M_PI * m.lambda.real() / m.lambda.imag();
+        file << state.rpm << ',' << m.harmonic << ',' << m.index << ',' << m.whirl << ','
+             << m.travel << ',' << m.frequency_hz() << ',' << zeta << ',' << logdec << ','
+             << (m.lambda.real() <= 1e-8 * std::abs(m.lambda) ? 1 : 0) << ',' << m.backward_error
+             << ',' << m.forward_fraction << ',' << csv_field(state.fit_state) << ','
+             << (state.converged() ? 1 : 0) << '\n';
+      }
+    file << std::flush;
+  }
+
+  void
   CriticalSpeedTable::open(const std::string &directory)
   {
     create(directory + "/critical_speeds.csv", "tracked_id,whirl,order,speed_rpm,frequency_hz,kind,unbalance_excited,"

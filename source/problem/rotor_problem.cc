@@ -45,6 +45,7 @@ namespace rotorfit
     ModalAnalysis::declare_parameters(prm);
     Results::declare_parameters(prm);
     MeshRefinement::declare_parameters(prm);
+    HarmonicProblem::declare_parameters(prm);
     Bodies::declare_parameters(prm, names.bodies);
     SectionMesh::declare_body_parameters(prm, names.bodies);
     ContactInterfaces::declare_parameters(prm, names.interfaces);
@@ -81,6 +82,11 @@ namespace rotorfit
       prm.get("On loss of fit") == "stop" ? OnLossOfFit::stop : OnLossOfFit::continue_sweep;
     prm.leave_subsection();
     case_checks::surface_use(model, eigen.bearing_list(), log);
+    if (model.mesh().axisymmetric_model())
+      {
+        harmonic = std::make_unique<HarmonicProblem>(comm, log, timer);
+        harmonic->parse_parameters(prm);
+      }
   }
 
   void
@@ -90,6 +96,14 @@ namespace rotorfit
     for (const auto *list : {&model.bodies().warnings(), &speeds.warnings()})
       for (const auto &w : *list)
         log << "Warning: " << w << ".\n";
+    if (harmonic)
+      {
+        harmonic->setup(model, eigen.bearing_list());
+        if (response.enabled())
+          log << "Warning: Geometry/Model = axisymmetric does not solve the unbalance "
+                 "response yet: no response.csv (Geometry/Model = 3d solves it).\n";
+        return;
+      }
     model.setup(timer);
     case_checks::tip_speed(model, speeds.speeds_rpm().back(), log);
     eigen.setup();
@@ -112,6 +126,11 @@ namespace rotorfit
   void
   RotorProblem::run()
   {
+    if (harmonic)
+      {
+        run_harmonic();
+        return;
+      }
     assemble_speed_independent_matrices();
     start_sweep();
     const auto &rpm = speeds.speeds_rpm();
@@ -127,6 +146,29 @@ namespace rotorfit
         finished_steps = k + 1;
         log_speed(state);
         if (on_loss_of_fit == OnLossOfFit::stop && statics.every_fit_open())
+          {
+            log << "Every fit is fully open: the sweep stops here (Contact/On "
+                   "loss of fit = stop).\n";
+            break;
+          }
+      }
+  }
+
+  void
+  RotorProblem::run_harmonic()
+  {
+    const auto &rpm = speeds.speeds_rpm();
+    harmonic->start(results.directory(), std::pow(SpeedSchedule::rpm_to_rad_per_s(rpm.back()), 2));
+    assembled   = true;
+    sweep_start = std::chrono::steady_clock::now();
+    for (unsigned int k = 0; k < rpm.size(); ++k)
+      {
+        run_control::stop_if_interrupted(comm, "before " + format_number(rpm[k]) + " r/min");
+        current_step             = k;
+        const StaticState &state = harmonic->solve_speed(k, rpm[k]);
+        finished_steps           = k + 1;
+        log_speed(state);
+        if (on_loss_of_fit == OnLossOfFit::stop && harmonic->every_fit_open())
           {
             log << "Every fit is fully open: the sweep stops here (Contact/On "
                    "loss of fit = stop).\n";
@@ -253,6 +295,11 @@ namespace rotorfit
   {
     if (refinement.cycles() == 0)
       return exit_code::success;
+    if (harmonic)
+      throw InputError("Mesh refinement/Cycles = " + std::to_string(refinement.cycles()) +
+                       ": adaptive refinement of the meridian is not built yet; refine it "
+                       "by Geometry/Sections/Element size and Fit element size, or use "
+                       "Geometry/Model = 3d.");
     std::string list;
     for (const double s : refinement.speeds())
       list += (list.empty() ? "" : ", ") + format_number(s);
@@ -422,7 +469,9 @@ namespace rotorfit
                               const std::string &message)
   {
     Summary summary;
-    if (assembled)
+    if (harmonic && assembled)
+      harmonic->finish(summary);
+    else if (assembled)
       {
         statics.finish(summary);
         eigen.finish(summary);
@@ -444,7 +493,7 @@ namespace rotorfit
     const double peak = Utilities::MPI::sum(resources::resident_bytes(true), comm);
     summary.add("run.peak_memory_gb", peak / 1e9);
     log << "Peak memory: " << resources::gigabytes(peak) << " (resident, all ranks)\n";
-    results.finish(summary, modal_steps > 0);
+    results.finish(summary, !harmonic && modal_steps > 0);
     if (assembled)
       {
         timer.print_summary();

@@ -8,13 +8,14 @@
 namespace rotorfit
 {
   /**
-   * Cell-local indices of the DoFs that live on face @p face_no of @p cell.
+   * Cell-local indices of the DoFs that live on face @p face_no of @p cell
+   * (a DoFHandler's active cell, 2D or 3D).
    * Found through the face's own DoF indices: FESystem::has_support_on_face
    * is not reliable for simplex elements in deal.II 9.4.
    */
+  template <typename CellIterator>
   inline std::vector<unsigned int>
-  cell_dofs_on_face(const dealii::DoFHandler<3>::active_cell_iterator &cell,
-                    const unsigned int                                 face_no)
+  cell_dofs_on_face(const CellIterator &cell, const unsigned int face_no)
   {
     const auto &fe = cell->get_fe();
     std::vector<dealii::types::global_dof_index> cell_dofs(fe.n_dofs_per_cell());

@@ -6,6 +6,7 @@
 
 #include <deal.II/dofs/dof_handler.h>
 
+#include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/sparse_direct.h>
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/sparsity_pattern.h>
@@ -139,6 +140,27 @@ namespace rotorfit
           const ContactInterfaces                &interfaces,
           const std::vector<double>              &free_thermal_strain);
 
+    /// One interface of the meridian model (harmonic/): its ring pairs
+    /// (position (r, 0, z), normal e_r), the body of each side of each
+    /// pair, and the shaft side's boundary lines as faces of local pair
+    /// indices with their ring areas 2 pi int r ds and consistent mass
+    /// matrices int psi_i psi_j 2 pi r ds.
+    struct RingInterface
+    {
+      std::vector<ContactPair>                 pairs;
+      std::vector<unsigned int>                shaft_body, hub_body;
+      std::vector<std::vector<unsigned int>>   faces;
+      std::vector<double>                      face_area;
+      std::vector<dealii::FullMatrix<double>>  face_mass;
+    };
+
+    /// The pairs of the meridian model, one RingInterface per interface (in
+    /// the order of @p interfaces); interferences as in build().
+    void
+    build_rings(const ContactInterfaces    &interfaces,
+                std::vector<RingInterface> &&rings,
+                const std::vector<double>   &free_thermal_strain);
+
     const std::vector<ContactPair> &
     pairs() const
     {
@@ -233,7 +255,8 @@ namespace rotorfit
     /// free thermal expansion of the two bodies, -r (eps_hub - eps_shaft).
     void
     set_interference(const unsigned int f, const InterfaceDefinition &definition,
-                     const FitSpecification::Case c, const InterfaceSides &sides,
+                     const FitSpecification::Case c, const std::vector<unsigned int> &shaft_body,
+                     const std::vector<unsigned int> &hub_body,
                      const std::vector<double> &free_thermal_strain);
 
     /// Surface mass matrix and face areas of interface @p f (shaft side).

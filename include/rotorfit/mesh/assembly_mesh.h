@@ -69,6 +69,14 @@ namespace rotorfit
       memory_limit = bytes;
     }
 
+    /// Geometry/Model = axisymmetric: the meridian and Fourier harmonics
+    /// (harmonic/) instead of this 3D mesh.
+    bool
+    axisymmetric_model() const
+    {
+      return axisymmetric;
+    }
+
     /// Whether the cells are hexahedra (section mesher) or tetrahedra (gmsh).
     bool
     hexahedral() const
@@ -221,6 +229,7 @@ namespace rotorfit
     dealii::parallel::shared::Triangulation<3> tria;
 
     bool                                                              use_sections = false;
+    bool                                                              axisymmetric = false;
     SectionMesh                                                       section_mesh;
     std::map<dealii::types::boundary_id, std::set<std::string>>       boundary_names;
 

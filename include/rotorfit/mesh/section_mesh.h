@@ -101,6 +101,15 @@ namespace rotorfit
     create(dealii::Triangulation<3>                                   &tria,
            std::map<dealii::types::boundary_id, std::set<std::string>> &names) const;
 
+    /**
+     * The meridian plane of the same plan (Geometry/Model = axisymmetric):
+     * quadrilaterals in (r, z) (SectionQuadrilaterals), the surfaces named as
+     * in create(), their boundary ids on the meridian's boundary lines.
+     */
+    void
+    create_meridian(dealii::Triangulation<2>                                   &tria,
+                    std::map<dealii::types::boundary_id, std::set<std::string>> &names) const;
+
     /// Add these nodes to the next create().
     void
     set_refinement(const Refinement &r)
@@ -151,12 +160,14 @@ namespace rotorfit
     parse_selector(const std::string &selector, const std::string &surface) const;
     /// Which boundary of body @p b a face is on (none: a step); @p zm its
     /// mean axial position.
+    template <int dim>
     std::optional<Side>
-    face_side(const dealii::Triangulation<3>::face_iterator &face,
+    face_side(const typename dealii::Triangulation<dim>::face_iterator &face,
               const unsigned int                             b,
               double                                        &zm) const;
+    template <int dim>
     void
-    name_boundaries(dealii::Triangulation<3>                                   &tria,
+    name_boundaries(dealii::Triangulation<dim>                                 &tria,
                     std::map<dealii::types::boundary_id, std::set<std::string>> &names) const;
 
     unsigned int                                  n_theta = 24;

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <rotorfit/harmonic/harmonic_mode.h>
+
 #include <rotorfit/modal/modal_analysis.h>
 #include <rotorfit/modal/stability_onset.h>
 #include <rotorfit/response/unbalance_response.h>
@@ -30,6 +32,16 @@ namespace rotorfit
     create(const std::string &path, const char *header, const int digits);
 
     std::ofstream file;
+  };
+
+  /// campbell.csv of the harmonic model: one row per speed, harmonic and mode.
+  class HarmonicCampbellTable : CsvTable
+  {
+  public:
+    void
+    open(const std::string &directory);
+    void
+    add(const StaticState &state, const std::vector<HarmonicMode> &modes);
   };
 
   /// contact.csv: one row per speed and interface.

@@ -2,6 +2,7 @@
 
 #include <rotorfit/base/log.h>
 #include <rotorfit/eigen/prestressed_eigenproblem.h>
+#include <rotorfit/harmonic/harmonic_problem.h>
 #include <rotorfit/modal/modal_analysis.h>
 #include <rotorfit/modal/stability_onset.h>
 #include <rotorfit/response/unbalance_response.h>
@@ -16,6 +17,7 @@
 
 #include <chrono>
 #include <functional>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -152,6 +154,9 @@ namespace rotorfit
                            const SectionMesh::Refinement &nodes);
 
     // the phases of a speed, each timed on its own
+    /// run() on the harmonic model.
+    void
+    run_harmonic();
     /// Before the first speed: the exact path ahead, the indicators reset.
     void
     start_sweep();
@@ -195,6 +200,8 @@ namespace rotorfit
     UnbalanceResponse       response;
     Results                 results;
     MeshRefinement          refinement;
+    /// Geometry/Model = axisymmetric: the run on the meridian (else null)
+    std::unique_ptr<HarmonicProblem> harmonic;
     std::string             prm_directory; ///< where the .prm's relative names start
     bool                    collect_indicators = false;
     /// What the sweep does once every fit is fully open (Contact/On loss of fit).

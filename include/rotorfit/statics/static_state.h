@@ -131,5 +131,6 @@ namespace rotorfit
     const ContactSolver                                 *solver = nullptr;
     std::shared_ptr<const ContactSolver::Decomposition> law;
     friend class StaticProblem;
+    friend class HarmonicProblem;
   };
 } // namespace rotorfit
