@@ -413,6 +413,12 @@ namespace rotorfit
       for (auto it = a.begin(i); it != a.end(i); ++it)
         dsp.add(i, it->column());
     p.reinit(all, all, dsp, comm);
+    copy_values(a, p);
+  }
+
+  void
+  copy_values(const SparseMatrix<double> &a, PETScWrappers::MPI::SparseMatrix &p)
+  {
     std::vector<types::global_dof_index> cols;
     std::vector<PetscScalar>             vals;
     for (unsigned int i = 0; i < a.m(); ++i)

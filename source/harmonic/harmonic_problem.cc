@@ -126,8 +126,16 @@ namespace rotorfit
       if (compute_modes)
         {
           matrices.resize(harmonics.size());
+          // (PETSc matrices cannot be moved: made in place)
+          for (auto *p : {&petsc_m, &petsc_c, &petsc_k})
+            *p = std::vector<PETScWrappers::MPI::SparseMatrix>(harmonics.size());
           for (unsigned int k = 0; k < harmonics.size(); ++k)
-            assembler->assemble_harmonic(harmonics[k], stations, matrices[k]);
+            {
+              assembler->assemble_harmonic(harmonics[k], stations, matrices[k]);
+              copy_to_petsc(matrices[k].M, petsc_m[k], comm);
+              copy_to_petsc(matrices[k].K, petsc_c[k], comm);
+              copy_to_petsc(matrices[k].K, petsc_k[k], comm);
+            }
         }
     }
     log << "Mass properties (meridian, exact geometry):\n";
@@ -188,10 +196,34 @@ namespace rotorfit
   {
     const double omega = SpeedSchedule::rpm_to_rad_per_s(s.rpm);
     const double w     = omega * omega;
-    // the static field: all of it, or the interference part (the law at w = 0)
-    PETScWrappers::MPI::Vector u;
-    contact.displacement(s.decomposition(), centrifugal_prestress ? w : 0., u);
-    const Vector<double> u_static(u);
+    // K_sigma of the law's two parts, once per law (doc/theory.md 2.3, 3); a
+    // tangent law (spin softening) is not affine: its whole field at w
+    const bool affine = s.decomposition().affine;
+    if (prestress && (s.law != prestress_law || !affine))
+      {
+        TimerOutput::Scope         t(timer, "eigenproblem: K_sigma");
+        PETScWrappers::MPI::Vector u0, u1;
+        contact.displacement(s.decomposition(), affine ? 0. : w, u0);
+        const Vector<double> u_I(u0);
+        Vector<double>       u_C(u_I.size());
+        if (affine && centrifugal_prestress)
+          {
+            contact.displacement(s.decomposition(), 1., u1);
+            u_C = Vector<double>(u1);
+            u_C -= u_I;
+          }
+        k_sigma_I.resize(matrices.size());
+        k_sigma_C.resize(matrices.size());
+        for (unsigned int k = 0; k < matrices.size(); ++k)
+          {
+            k_sigma_I[k] = std::make_unique<SparseMatrix<double>>();
+            k_sigma_C[k] = std::make_unique<SparseMatrix<double>>();
+            assembler->assemble_prestress(matrices[k], u_I, *k_sigma_I[k]);
+            assembler->assemble_prestress(matrices[k], u_C, *k_sigma_C[k]);
+            prestress_assemblies += 2;
+          }
+        prestress_law = s.law;
+      }
     // tie penalties from the radial stiffness of the two nodes (doc/theory.md 7.4)
     const auto         &pairs = meridian.pairs().pairs();
     std::vector<double> penalty(pairs.size());
@@ -201,17 +233,18 @@ namespace rotorfit
                     system.stiffness_diagonal[pairs[i].hub_dofs[0]]);
 
     std::vector<HarmonicMode> result;
-    for (const auto &h : matrices)
+    for (unsigned int hk = 0; hk < matrices.size(); ++hk)
       {
+        const auto &h = matrices[hk];
+        std::unique_ptr<TimerOutput::Scope> phase =
+          std::make_unique<TimerOutput::Scope>(timer, "eigenproblem: matrices of the speed");
         SparseMatrix<double> k(h.pattern), c(h.pattern);
         k.copy_from(h.K);
-        std::unique_ptr<TimerOutput::Scope> phase =
-          std::make_unique<TimerOutput::Scope>(timer, "eigenproblem: K_sigma and matrices");
         if (prestress)
           {
-            SparseMatrix<double> k_sigma;
-            assembler->assemble_prestress(h, u_static, k_sigma);
-            k.add(1., k_sigma);
+            k.add(1., *k_sigma_I[hk]);
+            if (affine && centrifugal_prestress)
+              k.add(w, *k_sigma_C[hk]);
             if (centrifugal_prestress && convective)
               k.add(-w, h.K_theta);
           }
@@ -237,10 +270,11 @@ namespace rotorfit
                         c.add(I, J, cb[index[p][q]] * wi * wj);
                     }
           }
-        PETScWrappers::MPI::SparseMatrix pm, pc, pk;
-        copy_to_petsc(h.M, pm, comm);
-        copy_to_petsc(c, pc, comm);
-        copy_to_petsc(k, pk, comm);
+        copy_values(c, petsc_c[hk]);
+        copy_values(k, petsc_k[hk]);
+        auto &pm = petsc_m[hk];
+        auto &pc = petsc_c[hk];
+        auto &pk = petsc_k[hk];
         // rigid motions on top of the modes wanted: axial translation and twist
         // (n = 0), translations and tilts (n = 1), of every body at most
         const unsigned int n_bodies = meridian.bodies().size();
@@ -358,6 +392,7 @@ namespace rotorfit
     summary.add("static.speed_path",
                 contact.path() == ContactSolver::Path::exact ? "exact" : "sampled");
     summary.add("eigen.modes_written", n_modes_written);
+    summary.add("eigen.prestress_assemblies", prestress_assemblies);
     summary.add("eigen.worst_backward_error", worst_backward_error, 12);
     summary.add("eigen.unconverged_modes", n_unconverged);
   }

@@ -86,6 +86,11 @@ namespace rotorfit
       {
         harmonic = std::make_unique<HarmonicProblem>(comm, log, timer);
         harmonic->parse_parameters(prm);
+        if (refinement.cycles() > 0)
+          throw InputError("Mesh refinement/Cycles = " + std::to_string(refinement.cycles()) +
+                           ": adaptive refinement of the meridian is not built yet; refine it "
+                           "by Geometry/Sections/Element size and Fit element size, or use "
+                           "Geometry/Model = 3d.");
       }
   }
 
@@ -295,11 +300,7 @@ namespace rotorfit
   {
     if (refinement.cycles() == 0)
       return exit_code::success;
-    if (harmonic)
-      throw InputError("Mesh refinement/Cycles = " + std::to_string(refinement.cycles()) +
-                       ": adaptive refinement of the meridian is not built yet; refine it "
-                       "by Geometry/Sections/Element size and Fit element size, or use "
-                       "Geometry/Model = 3d.");
+
     std::string list;
     for (const double s : refinement.speeds())
       list += (list.empty() ? "" : ", ") + format_number(s);

@@ -75,7 +75,12 @@ namespace rotorfit
     const MeridianModel &model;
   };
 
-  /// Copy a serial matrix into a PETSc matrix of the same pattern (one rank).
+  /// Set the values of @p a into @p p, made by copy_to_petsc() from a
+  /// matrix of the same pattern.
+  void
+  copy_values(const dealii::SparseMatrix<double> &a, dealii::PETScWrappers::MPI::SparseMatrix &p);
+
+  /// Copy a serial matrix into a new PETSc matrix of its pattern (one rank).
   void
   copy_to_petsc(const dealii::SparseMatrix<double>        &a,
                 dealii::PETScWrappers::MPI::SparseMatrix  &p,

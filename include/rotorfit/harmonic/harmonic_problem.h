@@ -106,6 +106,14 @@ namespace rotorfit
 
     // dynamics
     std::vector<HarmonicAssembler::Harmonic> matrices;
+    /// per harmonic: M, and the matrices K, C are filled into (same pattern
+    /// at every speed)
+    std::vector<dealii::PETScWrappers::MPI::SparseMatrix> petsc_m, petsc_c, petsc_k;
+    /// K_sigma is linear in the static displacement u = u_I + w u_C: per
+    /// harmonic K_sigma(u_I) and K_sigma(u_C) of the law they were made for
+    std::shared_ptr<const ContactSolver::Decomposition> prestress_law;
+    std::vector<std::unique_ptr<dealii::SparseMatrix<double>>> k_sigma_I, k_sigma_C;
+    unsigned int                                        prestress_assemblies = 0;
     DampedEigensolver                        eigensolver;
     DampedEigensolver::Statistics            statistics;
     unsigned int                             n_unconverged = 0, n_modes_written = 0;
