@@ -285,6 +285,12 @@ namespace rotorfit
         phase            = std::make_unique<TimerOutput::Scope>(timer, "eigenproblem: solve");
         auto pairs_found = eigensolver.solve(pm, pc, pk, wanted, statistics);
         phase.reset();
+        unconverged_slots += statistics.unconverged_slots;
+        restarts += statistics.iterations;
+        factor_seconds += statistics.factorization_seconds;
+        arnoldi_seconds += statistics.arnoldi_seconds;
+        check_seconds += statistics.check_seconds;
+        ++eigen_solves;
 
         std::vector<HarmonicMode> modes;
         for (auto &p : pairs_found)
@@ -393,6 +399,15 @@ namespace rotorfit
                 contact.path() == ContactSolver::Path::exact ? "exact" : "sampled");
     summary.add("eigen.modes_written", n_modes_written);
     summary.add("eigen.prestress_assemblies", prestress_assemblies);
+    summary.add("eigen.solves", eigen_solves);
+    // ARPACK slots left unconverged are dropped, never reported as modes
+    summary.add("eigen.unconverged_slots", unconverged_slots);
+    summary.add("eigen.arnoldi_restarts", restarts);
+    log << "Eigenproblem: " << eigen_solves << " solves (harmonics x speeds), "
+        << std::setprecision(3) << factor_seconds << " s factorising, " << arnoldi_seconds
+        << " s Arnoldi (back-substitutions included), " << check_seconds
+        << " s backward errors; " << restarts << " restarts, " << unconverged_slots
+        << " slots unconverged\n" << std::setprecision(6);
     summary.add("eigen.worst_backward_error", worst_backward_error, 12);
     summary.add("eigen.unconverged_modes", n_unconverged);
   }
