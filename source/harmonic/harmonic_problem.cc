@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -314,22 +315,27 @@ namespace rotorfit
             mode.harmonic         = h.n;
             mode.lambda           = p.lambda;
             mode.backward_error   = p.backward_error;
-            mode.forward_fraction = h.n == 0 ? 0.5 : forward_fraction(h, p.phi);
-            mode.travel           = h.n == 0 ? "-" :
-                                    mode.forward_fraction >= 0.5 ? "forward" : "backward";
+            mode.forward_fraction =
+              h.n == 0 ? std::numeric_limits<double>::quiet_NaN() : forward_fraction(h, p.phi);
+            // the 3D model's rule on the whirl ratio 2 f - 1 (doc/theory.md 9.2)
+            const double ratio = 2 * mode.forward_fraction - 1;
+            mode.travel        = h.n == 0      ? "-" :
+                                 ratio >= 0.1  ? "forward" :
+                                 ratio <= -0.1 ? "backward" :
+                                                 "mixed";
             modes.push_back(mode);
           }
         std::sort(modes.begin(), modes.end(), [](const HarmonicMode &a, const HarmonicMode &b) {
           return a.lambda.imag() < b.lambda.imag();
         });
         // a degenerate pair (at rest on isotropic bearings) is one standing
-        // wave twice: one member forward, the other backward
+        // wave twice, any mix of the two travelling ones: backward first,
+        // then forward, as the 3D model lists a doublet at rest
         for (unsigned int i = 0; h.n > 0 && i + 1 < modes.size(); ++i)
           if (std::abs(modes[i + 1].lambda - modes[i].lambda) <= 1e-7 * std::abs(modes[i].lambda))
             {
-              const bool first_forward = modes[i].forward_fraction >= modes[i + 1].forward_fraction;
-              modes[i].travel     = first_forward ? "forward" : "backward";
-              modes[i + 1].travel = first_forward ? "backward" : "forward";
+              modes[i].travel     = "backward";
+              modes[i + 1].travel = "forward";
               ++i;
             }
         for (auto &m : modes)
