@@ -1075,6 +1075,34 @@ def check_history(exe, prm, out, rpm, tol, before, short):
     return 0 if ok else 1
 
 
+def check_models(exe, prm, out, ftol, ztol, *sets):
+    """PRM (a harmonic-model case) against the 3D section mesher's hexahedra
+    on the same meridian (Geometry/Model=3d, the --set SETS on both): per
+    speed the same number of modes, whirl for whirl, frequencies within FTOL
+    relative and damping ratios within ZTOL absolute (consistency: the
+    harmonic model is the hexahedra's limit in the cells around)."""
+    run_test.run(exe, prepare(prm, out, sets))
+    run_test.run(exe, prepare(prm, out + "_3d", sets + ("Geometry/Model=3d",
+                 "Geometry/Sections/Circumferential cells=32")))
+    a, b = rows(out), rows(out + "_3d")
+    ok = True
+    for rpm in speeds(b):
+        x = sorted(at(a, rpm), key=lambda r: float(r["frequency_hz"]))
+        y = sorted((r for r in at(b, rpm) if r["whirl"] != "non-lateral"),
+                   key=lambda r: float(r["frequency_hz"]))
+        x = [r for r in x if r["whirl"] != "non-lateral"][:len(y)]
+        good = len(x) == len(y) > 0
+        df = max((abs(float(p["frequency_hz"]) / float(q["frequency_hz"]) - 1) for p, q in zip(x, y)), default=1)
+        dz = max((abs(float(p["damping_ratio"]) - float(q["damping_ratio"])) for p, q in zip(x, y)), default=1)
+        same = all(p["whirl"] == q["whirl"] for p, q in zip(x, y))
+        good &= df <= float(ftol) and dz <= float(ztol) and same
+        print(f"{rpm:g} r/min: {len(x)} lateral modes against {len(y)}, frequency {df:.2e} "
+              f"(tolerance {ftol}), damping ratio {dz:.2e} ({ztol}), whirl {'equal' if same else 'DIFFERENT'}:",
+              "ok" if good else "FAILED")
+        ok &= good
+    return 0 if ok else 1
+
+
 if __name__ == "__main__":
     mode, args = sys.argv[1], sys.argv[2:]
     expected, write = None, False
@@ -1084,7 +1112,7 @@ if __name__ == "__main__":
         expected, write = args[i + 1], flag == "--write-expected"
         args = args[:i] + args[i + 2:]
     checks = {"timoshenko": check_timoshenko, "rigid_rotor": check_rigid_rotor,
-              "rigid_rotor_modes": check_rigid_rotor_modes,
+              "rigid_rotor_modes": check_rigid_rotor_modes, "models": check_models,
               "free_spin": check_free_spin, "pair_shift": check_pair_shift,
               "loss_of_fit": check_loss_of_fit, "fixed": check_fixed,
               "stiffening": check_stiffening, "bearing_table": check_bearing_table,
