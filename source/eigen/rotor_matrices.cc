@@ -1,4 +1,5 @@
 #include <rotorfit/eigen/rotor_matrices.h>
+#include <rotorfit/linear_algebra/skew_part.h>
 #include <rotorfit/linear_algebra/matrix_pattern.h>
 #include <rotorfit/material/elasticity.h>
 
@@ -95,17 +96,8 @@ namespace rotorfit
                     cell_t(i, j) += rho * d_theta[i] * d_theta[j] * JxW;
                   }
             }
-          // G <- (G - G^T)/2 cell by cell: the faceted boundary leaves a
-          // symmetric part that would act as spurious damping (doc/theory.md P4)
-          for (unsigned int i = 0; i < n; ++i)
-            for (unsigned int j = 0; j < i; ++j)
-              {
-                const double skew = 0.5 * (cell_g(i, j) - cell_g(j, i));
-                cell_g(i, j)      = skew;
-                cell_g(j, i)      = -skew;
-              }
-          for (unsigned int i = 0; i < n; ++i)
-            cell_g(i, i) = 0;
+          // cell by cell: the faceted boundary leaves a symmetric part
+          keep_skew_part(cell_g);
           mass.add(dofs, cell_m);
           stiffness.add(dofs, cell_k);
           gyroscopic.add(dofs, cell_g);

@@ -1,4 +1,5 @@
 #include <rotorfit/harmonic/harmonic_assembler.h>
+#include <rotorfit/linear_algebra/skew_part.h>
 
 #include <deal.II/base/index_set.h>
 
@@ -306,17 +307,8 @@ namespace rotorfit
                   }
               }
           }
-        // only the skew part of G (doc/theory.md 4.3; exact here up to the
-        // quadrature: a meridian's boundary has t . n = 0)
-        for (unsigned int i = 0; i < nl; ++i)
-          for (unsigned int j = 0; j < i; ++j)
-            {
-              const double skew = 0.5 * (g(i, j) - g(j, i));
-              g(i, j)           = skew;
-              g(j, i)           = -skew;
-            }
-        for (unsigned int i = 0; i < nl; ++i)
-          g(i, i) = 0;
+        // (a meridian's boundary has t . n = 0: only round-off is removed)
+        keep_skew_part(g);
         distribute(k, dofs, samples.local, free, h.K);
         distribute(m, dofs, samples.local, free, h.M);
         distribute(g, dofs, samples.local, free, h.G);

@@ -166,21 +166,12 @@ namespace rotorfit
   const StaticState &
   HarmonicProblem::solve_speed(const unsigned int k, const double rpm)
   {
-    const double w = std::pow(SpeedSchedule::rpm_to_rad_per_s(rpm), 2);
-    state          = StaticState();
-    state.solver   = &contact;
-    state.rpm      = rpm;
-    state.index    = k;
-    {
-      TimerOutput::Scope t(timer, "contact solve");
-      state.contact = contact.solve(w);
-    }
-    state.law = contact.law();
+    state = StaticState::solve(contact, rpm, k, timer);
     for (const double f : state.contact.force)
       if (!std::isfinite(f))
         throw SolverFailure(rpm, "the static solve at " + format_number(rpm) +
                             " r/min gave a pair force that is not a number");
-    history->record(state, *state.law, contact.constraint_error_limit());
+    history->record(state, state.decomposition(), contact.constraint_error_limit());
     contact_table.add(state);
     opening_table.add(state);
     event_table.add(state);
@@ -200,7 +191,7 @@ namespace rotorfit
     // K_sigma of the law's two parts, once per law (doc/theory.md 2.3, 3); a
     // tangent law (spin softening) is not affine: its whole field at w
     const bool affine = s.decomposition().affine;
-    if (prestress && (s.law != prestress_law || !affine))
+    if (prestress && (s.shared_law() != prestress_law || !affine))
       {
         TimerOutput::Scope         t(timer, "eigenproblem: K_sigma");
         PETScWrappers::MPI::Vector u0, u1;
@@ -223,7 +214,7 @@ namespace rotorfit
             assembler->assemble_prestress(matrices[k], u_C, *k_sigma_C[k]);
             prestress_assemblies += 2;
           }
-        prestress_law = s.law;
+        prestress_law = s.shared_law();
       }
     // tie penalties from the radial stiffness of the two nodes (doc/theory.md 7.4)
     const auto         &pairs = meridian.pairs().pairs();
@@ -356,13 +347,10 @@ namespace rotorfit
   {
     // per node the cos and sin coefficients (C, S) of u_r, u_t, u_z; a wave
     // travelling forward has S = -i C: |C + i S|^2 forward, |C - i S|^2 backward
-    std::map<types::global_dof_index, std::complex<double>> value;
+    std::vector<std::complex<double>> value(meridian.dofs().n_dofs());
     for (unsigned int I = 0; I < h.free.n_free; ++I)
       value[h.free.dof[I]] = {phi.re[I], phi.im[I]};
-    const auto at = [&](const types::global_dof_index dof) {
-      const auto it = value.find(dof);
-      return it == value.end() ? std::complex<double>() : it->second;
-    };
+    const auto at = [&](const types::global_dof_index dof) { return value[dof]; };
     const std::complex<double> i(0., 1.);
     double                     forward = 0, backward = 0;
     for (const auto &node : meridian.nodes())

@@ -211,18 +211,7 @@ namespace rotorfit
   StaticState
   StaticProblem::contact_state(const double rpm, const unsigned int index)
   {
-    const double w = std::pow(SpeedSchedule::rpm_to_rad_per_s(rpm), 2);
-    StaticState  s;
-    s.solver = &contact;
-    s.rpm    = rpm;
-    s.index  = index;
-    {
-      TimerOutput::Scope t(timer, "contact solve");
-      s.contact = contact.solve(w);
-    }
-    // one copy of the law per segment: speeds on it share it
-    s.law = contact.law();
-    return s;
+    return StaticState::solve(contact, rpm, index, timer);
   }
 
   void
@@ -252,7 +241,7 @@ namespace rotorfit
             ahead.push_back(std::move(a));
             return; // the path cannot go on: the factorisation stays
           }
-        if (ahead.empty() || ahead.back().state.law != a.state.law)
+        if (ahead.empty() || ahead.back().state.shared_law() != a.state.shared_law())
           kept += per_law; // a new segment's law
         ahead.push_back(std::move(a));
         if (kept > limit)
@@ -323,6 +312,23 @@ namespace rotorfit
 
 namespace rotorfit
 {
+  StaticState
+  StaticState::solve(ContactSolver &contact, const double rpm, const unsigned int index,
+                     TimerOutput &timer)
+  {
+    StaticState s;
+    s.solver = &contact;
+    s.rpm    = rpm;
+    s.index  = index;
+    {
+      TimerOutput::Scope t(timer, "contact solve");
+      s.contact = contact.solve(std::pow(SpeedSchedule::rpm_to_rad_per_s(rpm), 2));
+    }
+    // one copy of the law per segment: speeds on it share it
+    s.law = contact.law();
+    return s;
+  }
+
   double
   StaticState::w() const
   {

@@ -3,6 +3,7 @@
 #include <rotorfit/contact/contact_solver.h>
 
 #include <deal.II/base/point.h>
+#include <deal.II/base/timer.h>
 
 #include <deal.II/lac/petsc_vector.h>
 
@@ -97,6 +98,12 @@ namespace rotorfit
       return contact.converged;
     }
 
+    /// The contact state of @p contact at @p rpm, the @p index-th speed of
+    /// the run, continuing from its last one (timed as "contact solve").
+    static StaticState
+    solve(ContactSolver &contact, const double rpm, const unsigned int index,
+          dealii::TimerOutput &timer);
+
     /// Omega^2 [rad^2/s^2].
     double
     w() const;
@@ -106,6 +113,14 @@ namespace rotorfit
     decomposition() const
     {
       return *law;
+    }
+
+    /// The law shared by every speed on it: its identity tells a keeper of
+    /// things made from it (K_sigma of its parts) whether they still hold.
+    const std::shared_ptr<const ContactSolver::Decomposition> &
+    shared_law() const
+    {
+      return law;
     }
 
     /// Displacement at this speed, ghosted (all DoFs).
@@ -130,7 +145,5 @@ namespace rotorfit
   private:
     const ContactSolver                                 *solver = nullptr;
     std::shared_ptr<const ContactSolver::Decomposition> law;
-    friend class StaticProblem;
-    friend class HarmonicProblem;
   };
 } // namespace rotorfit
