@@ -8,6 +8,7 @@
 Usage: timoshenko.py E nu rho R L [n]   -> first n (default 2) bending frequencies in Hz
        timoshenko.py --selftest         -> reproduce the doc/theory.md 10c example (steel, R=50 mm, L=1 m)
 """
+import cmath
 import math
 import sys
 
@@ -109,6 +110,32 @@ def rigid_rotor(m, Ip, Id, k, Lb, Omega):
     g = Omega * Ip / (2 * Id)
     r = math.sqrt(g * g + kt / Id)
     return math.sqrt(2 * k / m), g + r, -g + r
+
+
+def rigid_rotor_damped_critical(m, Ip, Id, k, c, Lb):
+    """The same rotor with damping c at each bearing: the speeds [rad/s] where the damped
+    translation, backward tilt and forward tilt (None if Id <= Ip) frequencies equal the
+    speed (1X crossings). Translation: m z'' + 2c z' + 2k z = 0; tilt, psi = theta_x +
+    i theta_y: Id psi'' + (c_t - i Ip Omega) psi' + k_t psi = 0, c_t = 2 c (Lb/2)^2,
+    forward roots Im > 0, backward Im < 0; each crossing by bisection."""
+    kt, ct = 2 * k * (Lb / 2) ** 2, 2 * c * (Lb / 2) ** 2
+    translation = math.sqrt(2 * k / m - (c / m) ** 2)
+
+    def tilt(Omega, sign):
+        b = complex(ct, -Ip * Omega)
+        d = cmath.sqrt(b * b - 4 * Id * kt)
+        roots = [(-b + d) / (2 * Id), (-b - d) / (2 * Id)]
+        return max(sign * r.imag for r in roots)   # the frequency of that whirl
+
+    def crossing(sign):
+        lo, hi = 0.0, 10 * math.sqrt(kt / abs(Id - Ip)) if Id != Ip else 1e9
+        if tilt(hi, sign) - hi > 0:
+            return None
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if tilt(mid, sign) - mid > 0 else (lo, mid)
+        return 0.5 * (lo + hi)
+    return translation, crossing(-1), crossing(+1) if Id > Ip else None
 
 
 def selftest():

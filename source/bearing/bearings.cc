@@ -182,6 +182,20 @@ namespace rotorfit
     return true;
   }
 
+  bool
+  Bearings::isotropic(const double rpm) const
+  {
+    for (unsigned int n = 0; n < size(); ++n)
+      {
+        Coefficients k, c;
+        coefficients(n, rpm, k, c);
+        for (const auto &a : {k, c})
+          if (a[0] != a[1] || a[2] != -a[3])
+            return false;
+      }
+    return true;
+  }
+
   void
   Bearings::coefficients(const unsigned int n,
                          const double       rpm,

@@ -218,15 +218,7 @@ namespace rotorfit
     solution.rpm   = state.rpm;
     solution.index = state.index;
     solution.tied  = tangent.tied_pairs(state);
-    // isotropic supports keep the rotor axisymmetric: [[k, q], [-q, k]]
-    for (unsigned int n = 0; n < bearings.size(); ++n)
-      {
-        Bearings::Coefficients k, c;
-        bearings.coefficients(n, state.rpm, k, c);
-        for (const auto &a : {k, c})
-          if (a[0] != a[1] || a[2] != -a[3])
-            solution.isotropic_supports = false;
-      }
+    solution.isotropic_supports = bearings.isotropic(state.rpm);
     tangent.assemble(state, solution.tied, speeds_done == 0);
     last_rpm      = state.rpm;
     speed_reduced = false;

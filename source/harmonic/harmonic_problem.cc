@@ -1,10 +1,14 @@
 #include <rotorfit/base/format.h>
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/harmonic/harmonic_problem.h>
+#include <rotorfit/modal/line_root.h>
 #include <rotorfit/statics/speed_schedule.h>
 
 #include <deal.II/base/index_set.h>
 #include <deal.II/base/mpi.h>
+#include <deal.II/lac/block_sparse_matrix.h>
+#include <deal.II/lac/block_vector.h>
+#include <deal.II/lac/sparse_direct.h>
 
 #include <algorithm>
 #include <cmath>
@@ -12,6 +16,7 @@
 #include <limits>
 #include <map>
 #include <sstream>
+#include <tuple>
 
 namespace rotorfit
 {
@@ -73,6 +78,13 @@ namespace rotorfit
     centrifugal_prestress       = stiffening == "interference + centrifugal";
     convective                  = prm.get_bool("Convective stiffness");
     rigid_threshold             = prm.get_double("Rigid-body threshold");
+    // the 3D model's line tracking (ModalAnalysis declares the entries)
+    mac_threshold   = prm.get_double("MAC threshold");
+    const auto list = Utilities::split_string_list(prm.get("Excitation orders"), ',');
+    check_unique(list, "Eigenproblem/Excitation orders");
+    orders.clear();
+    for (const auto &o : list)
+      orders.push_back(Utilities::string_to_int(o));
     prm.leave_subsection();
     prm.enter_subsection("Physics");
     spin_softening = prm.get_bool("Spin softening");
@@ -86,7 +98,9 @@ namespace rotorfit
   }
 
   void
-  HarmonicProblem::setup(const Discretization &model, const Bearings &bearing_list)
+  HarmonicProblem::setup(const Discretization &model,
+                         const Bearings       &bearing_list,
+                         UnbalanceResponse    &unbalance)
   {
     if (Utilities::MPI::n_mpi_processes(comm) > 1)
       throw InputError("Geometry/Model = axisymmetric runs on one MPI rank (its matrices are "
@@ -113,6 +127,20 @@ namespace rotorfit
           << " mm^2\n";
         log << m.str();
         stations.push_back(s);
+      }
+    response = nullptr;
+    if (unbalance.enabled())
+      {
+        if (std::find(harmonics.begin(), harmonics.end(), 1u) == harmonics.end())
+          throw InputError("Unbalances are given, but Harmonic model/Harmonics does not list 1: "
+                           "an unbalance forces harmonic 1 (the lateral whirl); add 1 to the "
+                           "list or remove the Unbalances.");
+        unbalance.setup(bearing_list, [&](Station &s) { meridian.station_weights(s); });
+        for (const auto &u : unbalance.unbalance_list())
+          stations.push_back(u.station);
+        for (const auto &p : unbalance.probe_list())
+          stations.push_back(p.station);
+        response = &unbalance;
       }
   }
 
@@ -155,12 +183,29 @@ namespace rotorfit
                         comm},
                        w_max);
     history = std::make_unique<FitHistory>(meridian.pairs(), *interfaces, log);
+    // tie penalties from the radial stiffness of the two nodes (doc/theory.md 7.4)
+    const auto &pairs = meridian.pairs().pairs();
+    tie_penalty.resize(pairs.size());
+    for (unsigned int i = 0; i < pairs.size(); ++i)
+      tie_penalty[i] = tie_scale * 0.5 *
+                       (system.stiffness_diagonal[pairs[i].shaft_dofs[0]] +
+                        system.stiffness_diagonal[pairs[i].hub_dofs[0]]);
+    trackers.assign(harmonics.size(), ModeTracker(orders, mac_threshold));
+    onsets.clear();
+    for (unsigned int k = 0; k < harmonics.size(); ++k)
+      onsets.push_back(std::make_unique<StabilityOnsets>(log));
     contact_table.open(directory);
     opening_table.open(directory);
     if (contact.path() == ContactSolver::Path::exact)
       event_table.open(directory);
     if (compute_modes)
-      campbell_table.open(directory);
+      {
+        campbell_table.open(directory);
+        critical_table.open(directory, true);
+        onset_table.open(directory, true);
+        if (response)
+          response_table.open(directory);
+      }
   }
 
   const StaticState &
@@ -177,182 +222,351 @@ namespace rotorfit
     event_table.add(state);
     if (compute_modes)
       {
-        const auto modes = solve_modes(state);
+        TimerOutput::Scope t(timer, "eigenproblem (harmonic model)");
+        const auto         modes = solve_modes(state);
         campbell_table.add(state, modes);
+        if (response)
+          {
+            const unsigned int k = std::find_if(matrices.begin(), matrices.end(),
+                                                [](const auto &h) { return h.n == 1; }) -
+                                   matrices.begin();
+            ResponseAtSpeed r = solve_response(k, state);
+            response->record(r, "The direct solve of harmonic 1 is singular or ill-conditioned "
+                                "at this speed (a free rotor at rest, or a speed on an "
+                                "undamped critical speed)");
+            response_table.add(r);
+          }
       }
     return state;
+  }
+
+  void
+  HarmonicProblem::prepare_prestress(const StaticState &s)
+  {
+    // K_sigma of the law's two parts, once per law (doc/theory.md 2.3, 3); a
+    // tangent law (spin softening) is not affine: its whole field at w
+    const bool   affine = s.decomposition().affine;
+    const double omega  = SpeedSchedule::rpm_to_rad_per_s(s.rpm);
+    if (!prestress || (s.shared_law() == prestress_law && affine))
+      return;
+    PETScWrappers::MPI::Vector u0, u1;
+    contact.displacement(s.decomposition(), affine ? 0. : omega * omega, u0);
+    const Vector<double> u_I(u0);
+    Vector<double>       u_C(u_I.size());
+    if (affine && centrifugal_prestress)
+      {
+        contact.displacement(s.decomposition(), 1., u1);
+        u_C = Vector<double>(u1);
+        u_C -= u_I;
+      }
+    k_sigma_I.resize(matrices.size());
+    k_sigma_C.resize(matrices.size());
+    for (unsigned int k = 0; k < matrices.size(); ++k)
+      {
+        k_sigma_I[k] = std::make_unique<SparseMatrix<double>>();
+        k_sigma_C[k] = std::make_unique<SparseMatrix<double>>();
+        assembler->assemble_prestress(matrices[k], u_I, *k_sigma_I[k]);
+        assembler->assemble_prestress(matrices[k], u_C, *k_sigma_C[k]);
+        prestress_assemblies += 2;
+      }
+    prestress_law = s.shared_law();
+  }
+
+  void
+  HarmonicProblem::speed_matrices(const unsigned int    hk,
+                                  const StaticState    &s,
+                                  SparseMatrix<double> &k,
+                                  SparseMatrix<double> &c)
+  {
+    const double omega  = SpeedSchedule::rpm_to_rad_per_s(s.rpm);
+    const double w      = omega * omega;
+    const bool   affine = s.decomposition().affine;
+    prepare_prestress(s);
+    const auto &h = matrices[hk];
+    k.copy_from(h.K);
+    if (prestress)
+      {
+        k.add(1., *k_sigma_I[hk]);
+        if (affine && centrifugal_prestress)
+          k.add(w, *k_sigma_C[hk]);
+        if (centrifugal_prestress && convective)
+          k.add(-w, h.K_theta);
+      }
+    assembler->add_ties(h, s.contact.active, tie_penalty, k);
+    c.copy_from(h.G);
+    c *= omega;
+    for (unsigned int b = 0; b < bearings->size() && h.n == 1; ++b)
+      {
+        Bearings::Coefficients kb, cb;
+        bearings->coefficients(b, s.rpm, kb, cb);
+        // (row direction, column direction) -> coefficient index
+        const unsigned int index[2][2] = {{0, 2}, {3, 1}};
+        const std::vector<std::pair<unsigned int, double>> *a[2] = {&h.station_x[b],
+                                                                     &h.station_y[b]};
+        for (unsigned int p = 0; p < 2; ++p)
+          for (unsigned int q = 0; q < 2; ++q)
+            for (const auto &[I, wi] : *a[p])
+              for (const auto &[J, wj] : *a[q])
+                {
+                  if (kb[index[p][q]] != 0)
+                    k.add(I, J, kb[index[p][q]] * wi * wj);
+                  if (cb[index[p][q]] != 0)
+                    c.add(I, J, cb[index[p][q]] * wi * wj);
+                }
+      }
+  }
+
+  ResponseAtSpeed
+  HarmonicProblem::solve_response(const unsigned int hk, const StaticState &s)
+  {
+    const auto  &h     = matrices[hk];
+    const double omega = SpeedSchedule::rpm_to_rad_per_s(s.rpm);
+    const unsigned int n = h.free.n_free;
+    ResponseAtSpeed    out;
+    out.rpm        = s.rpm;
+    out.fit_state  = s.fit_state;
+    out.basis_size = n; // (solved directly: the harmonic's DoFs)
+    // F Omega^2 of every unbalance: F_x = m e e^{i phi} a, F_y = -i F_x
+    // (doc/theory.md 13) on the station's weights; stations after the bearings
+    const std::size_t n_bearings = bearings->size();
+    const auto       &list       = response->unbalance_list();
+    BlockVector<double> f(2, n), u(2, n), r(2, n);
+    for (unsigned int j = 0; j < list.size(); ++j)
+      {
+        const std::complex<double> fx = list[j].force_x() * omega * omega,
+                                   fy = std::complex<double>(0, -1) * fx;
+        for (const auto &[I, w] : h.station_x[n_bearings + j])
+          f.block(0)[I] += w * fx.real(), f.block(1)[I] += w * fx.imag();
+        for (const auto &[I, w] : h.station_y[n_bearings + j])
+          f.block(0)[I] += w * fy.real(), f.block(1)[I] += w * fy.imag();
+      }
+    // Z = K_t - Omega^2 M + i Omega C as [[A, -B], [B, A]], A = K_t - Omega^2 M,
+    // B = Omega C; the four blocks have the harmonic's pattern
+    SparseMatrix<double> k(h.pattern), c(h.pattern);
+    speed_matrices(hk, s, k, c);
+    BlockSparsityPattern pattern(2, 2);
+    for (unsigned int i = 0; i < 2; ++i)
+      for (unsigned int j = 0; j < 2; ++j)
+        pattern.block(i, j).copy_from(h.pattern);
+    pattern.collect_sizes();
+    BlockSparseMatrix<double> z(pattern);
+    double z_norm2 = 0; // (Frobenius)
+    for (auto ik = k.begin(); ik != k.end(); ++ik)
+      {
+        const unsigned int i = ik->row(), j = ik->column();
+        const double       a = ik->value() - omega * omega * h.M.el(i, j), b = omega * c.el(i, j);
+        z.block(0, 0).set(i, j, a);
+        z.block(1, 1).set(i, j, a);
+        z.block(0, 1).set(i, j, -b);
+        z.block(1, 0).set(i, j, b);
+        z_norm2 += 2 * (a * a + b * b);
+      }
+    const double f_norm         = f.l2_norm();
+    double       backward_error = 0;
+    if (f_norm > 0)
+      {
+        try
+          {
+            SparseDirectUMFPACK solver;
+            solver.initialize(z);
+            solver.vmult(u, f);
+            z.residual(r, u, f);
+            out.residual = r.l2_norm() / f_norm;
+            // one step of iterative refinement where the LU left more than
+            // the tolerance (a stiff rotor on soft bearings: 1e-8 .. 1e-7)
+            if (!(out.residual <= response->residual_tolerance()))
+              {
+                BlockVector<double> du(2, n);
+                solver.vmult(du, r);
+                u += du;
+                z.residual(r, u, f);
+                out.residual = r.l2_norm() / f_norm;
+              }
+            // a direct solve is judged by its normwise backward error
+            // ||r|| / (||Z|| ||U|| + ||F||): ||r|| / ||F|| cannot go below
+            // round-off times ||Z|| ||U|| / ||F|| (6e-8 on the stiff rigid
+            // rotor of the tests, whose backward error is 1e-17)
+            backward_error = r.l2_norm() / (std::sqrt(z_norm2) * u.l2_norm() + f_norm);
+          }
+        catch (const std::exception &e)
+          {
+            // (UMFPACK throws on a singular matrix: the row is flagged)
+            out.residual   = std::numeric_limits<double>::infinity();
+            backward_error = std::numeric_limits<double>::infinity();
+            u              = 0;
+          }
+      }
+    out.converged = out.residual <= response->residual_tolerance() || backward_error <= 1e-12;
+    if (!(backward_error <= worst_response_error))
+      worst_response_error = backward_error;
+    // the probes: the weighted means of the stations after the unbalances'
+    const auto &probes = response->probe_list();
+    for (unsigned int j = 0; j < probes.size(); ++j)
+      {
+        ProbeResponse p;
+        p.probe        = probes[j].name;
+        const auto idx = n_bearings + list.size() + j;
+        for (const auto &[I, w] : h.station_x[idx])
+          p.x += w * std::complex<double>(u.block(0)[I], u.block(1)[I]);
+        for (const auto &[I, w] : h.station_y[idx])
+          p.y += w * std::complex<double>(u.block(0)[I], u.block(1)[I]);
+        out.probes.push_back(p);
+      }
+    return out;
+  }
+
+  EigenSolution
+  HarmonicProblem::solve_harmonic(const unsigned int hk, const StaticState &s)
+  {
+    const auto &h = matrices[hk];
+    {
+      SparseMatrix<double> k(h.pattern), c(h.pattern);
+      speed_matrices(hk, s, k, c);
+      copy_values(c, petsc_c[hk]);
+      copy_values(k, petsc_k[hk]);
+    }
+    // rigid motions on top of the modes wanted: axial translation and twist
+    // (n = 0), translations and tilts (n = 1), of every body at most
+    const unsigned int n_bodies = meridian.bodies().size();
+    const unsigned int rigid    = h.n == 0 ? 2 * n_bodies : h.n == 1 ? 4 * n_bodies : 0;
+    const unsigned int wanted =
+      std::min<unsigned int>(2 * (modes_per_harmonic + rigid), h.free.n_free - 2);
+    auto pairs_found = eigensolver.solve(petsc_m[hk], petsc_c[hk], petsc_k[hk], wanted, statistics);
+    unconverged_slots += statistics.unconverged_slots;
+    restarts += statistics.iterations;
+    factor_seconds += statistics.factorization_seconds;
+    arnoldi_seconds += statistics.arnoldi_seconds;
+    check_seconds += statistics.check_seconds;
+    ++eigen_solves;
+
+    EigenSolution solution;
+    solution.rpm                = s.rpm;
+    solution.index              = s.index;
+    solution.isotropic_supports = bearings->isotropic(s.rpm);
+    for (auto &p : pairs_found)
+      {
+        worst_backward_error = std::max(worst_backward_error, p.backward_error);
+        if (!(p.backward_error <= eigensolver.backward_error_limit()))
+          {
+            ++n_unconverged;
+            std::ostringstream m;
+            m << "harmonic " << h.n << " at " << format_number(s.rpm) << " r/min: a mode at "
+              << std::abs(p.lambda) / (2 * M_PI) << " Hz has the backward error "
+              << p.backward_error << " (limit " << eigensolver.backward_error_limit() << ")";
+            throw SolverFailure(s.rpm, m.str());
+          }
+        // rigid motions and overdamped (real) roots are not modes of the diagram
+        if (std::abs(p.lambda) / (2 * M_PI) < rigid_threshold ||
+            std::abs(p.lambda.imag()) <= 1e-9 * std::abs(p.lambda))
+          continue;
+        solution.elastic.push_back(std::move(p));
+      }
+    auto &e = solution.elastic;
+    std::sort(e.begin(), e.end(), [](const EigenPair &a, const EigenPair &b) {
+      return a.lambda.imag() < b.lambda.imag();
+    });
+    // a degenerate pair (at rest on isotropic bearings) is one standing wave
+    // twice, any mix of the two travelling ones: as travelling waves, backward
+    // first (as the 3D model lists a doublet at rest), they continue the
+    // lines of the next speed
+    for (unsigned int i = 0; h.n > 0 && i + 1 < e.size(); ++i)
+      if (std::abs(e[i + 1].lambda - e[i].lambda) <= 1e-7 * std::abs(e[i].lambda))
+        travelling_waves(h, e[i], e[i + 1]), ++i;
+    if (e.size() > modes_per_harmonic)
+      e.resize(modes_per_harmonic);
+    return solution;
   }
 
   std::vector<HarmonicMode>
   HarmonicProblem::solve_modes(const StaticState &s)
   {
-    const double omega = SpeedSchedule::rpm_to_rad_per_s(s.rpm);
-    const double w     = omega * omega;
-    // K_sigma of the law's two parts, once per law (doc/theory.md 2.3, 3); a
-    // tangent law (spin softening) is not affine: its whole field at w
-    const bool affine = s.decomposition().affine;
-    if (prestress && (s.shared_law() != prestress_law || !affine))
-      {
-        TimerOutput::Scope         t(timer, "eigenproblem: K_sigma");
-        PETScWrappers::MPI::Vector u0, u1;
-        contact.displacement(s.decomposition(), affine ? 0. : w, u0);
-        const Vector<double> u_I(u0);
-        Vector<double>       u_C(u_I.size());
-        if (affine && centrifugal_prestress)
-          {
-            contact.displacement(s.decomposition(), 1., u1);
-            u_C = Vector<double>(u1);
-            u_C -= u_I;
-          }
-        k_sigma_I.resize(matrices.size());
-        k_sigma_C.resize(matrices.size());
-        for (unsigned int k = 0; k < matrices.size(); ++k)
-          {
-            k_sigma_I[k] = std::make_unique<SparseMatrix<double>>();
-            k_sigma_C[k] = std::make_unique<SparseMatrix<double>>();
-            assembler->assemble_prestress(matrices[k], u_I, *k_sigma_I[k]);
-            assembler->assemble_prestress(matrices[k], u_C, *k_sigma_C[k]);
-            prestress_assemblies += 2;
-          }
-        prestress_law = s.shared_law();
-      }
-    // tie penalties from the radial stiffness of the two nodes (doc/theory.md 7.4)
-    const auto         &pairs = meridian.pairs().pairs();
-    std::vector<double> penalty(pairs.size());
-    for (unsigned int i = 0; i < pairs.size(); ++i)
-      penalty[i] = tie_scale * 0.5 *
-                   (system.stiffness_diagonal[pairs[i].shaft_dofs[0]] +
-                    system.stiffness_diagonal[pairs[i].hub_dofs[0]]);
-
-    std::vector<HarmonicMode> result;
+    std::vector<HarmonicMode>   result;
+    ModalResult                 crossings;
+    std::vector<StabilityOnset> found;
+    crossings.rpm                = s.rpm;
+    crossings.isotropic_supports = bearings->isotropic(s.rpm);
     for (unsigned int hk = 0; hk < matrices.size(); ++hk)
       {
-        const auto &h = matrices[hk];
-        std::unique_ptr<TimerOutput::Scope> phase =
-          std::make_unique<TimerOutput::Scope>(timer, "eigenproblem: matrices of the speed");
-        SparseMatrix<double> k(h.pattern), c(h.pattern);
-        k.copy_from(h.K);
-        if (prestress)
-          {
-            k.add(1., *k_sigma_I[hk]);
-            if (affine && centrifugal_prestress)
-              k.add(w, *k_sigma_C[hk]);
-            if (centrifugal_prestress && convective)
-              k.add(-w, h.K_theta);
-          }
-        assembler->add_ties(h, s.contact.active, penalty, k);
-        c.copy_from(h.G);
-        c *= omega;
-        for (unsigned int b = 0; b < stations.size() && h.n == 1; ++b)
-          {
-            Bearings::Coefficients kb, cb;
-            bearings->coefficients(b, s.rpm, kb, cb);
-            // (row direction, column direction) -> coefficient index
-            const unsigned int index[2][2] = {{0, 2}, {3, 1}};
-            const std::vector<std::pair<unsigned int, double>> *a[2] = {&h.station_x[b],
-                                                                         &h.station_y[b]};
-            for (unsigned int p = 0; p < 2; ++p)
-              for (unsigned int q = 0; q < 2; ++q)
-                for (const auto &[I, wi] : *a[p])
-                  for (const auto &[J, wj] : *a[q])
-                    {
-                      if (kb[index[p][q]] != 0)
-                        k.add(I, J, kb[index[p][q]] * wi * wj);
-                      if (cb[index[p][q]] != 0)
-                        c.add(I, J, cb[index[p][q]] * wi * wj);
-                    }
-          }
-        copy_values(c, petsc_c[hk]);
-        copy_values(k, petsc_k[hk]);
-        auto &pm = petsc_m[hk];
-        auto &pc = petsc_c[hk];
-        auto &pk = petsc_k[hk];
-        // rigid motions on top of the modes wanted: axial translation and twist
-        // (n = 0), translations and tilts (n = 1), of every body at most
-        const unsigned int n_bodies = meridian.bodies().size();
-        const unsigned int rigid    = h.n == 0 ? 2 * n_bodies : h.n == 1 ? 4 * n_bodies : 0;
-        const unsigned int wanted   = std::min<unsigned int>(2 * (modes_per_harmonic + rigid),
-                                                           h.free.n_free - 2);
-        phase.reset();
-        phase            = std::make_unique<TimerOutput::Scope>(timer, "eigenproblem: solve");
-        auto pairs_found = eigensolver.solve(pm, pc, pk, wanted, statistics);
-        phase.reset();
-        unconverged_slots += statistics.unconverged_slots;
-        restarts += statistics.iterations;
-        factor_seconds += statistics.factorization_seconds;
-        arnoldi_seconds += statistics.arnoldi_seconds;
-        check_seconds += statistics.check_seconds;
-        ++eigen_solves;
-
+        const unsigned int n        = matrices[hk].n;
+        EigenSolution      solution = solve_harmonic(hk, s);
+        ModalResult        r;
+        r.rpm   = s.rpm;
+        r.index = s.index;
         std::vector<HarmonicMode> modes;
-        for (auto &p : pairs_found)
+        for (auto &p : solution.elastic)
           {
-            worst_backward_error = std::max(worst_backward_error, p.backward_error);
-            if (!(p.backward_error <= eigensolver.backward_error_limit()))
-              {
-                ++n_unconverged;
-                std::ostringstream m;
-                m << "harmonic " << h.n << " at " << format_number(s.rpm)
-                  << " r/min: a mode at " << std::abs(p.lambda) / (2 * M_PI)
-                  << " Hz has the backward error " << p.backward_error << " (limit "
-                  << eigensolver.backward_error_limit() << ")";
-                throw SolverFailure(s.rpm, m.str());
-              }
-            // rigid motions and overdamped (real) roots are not modes of the diagram
-            if (std::abs(p.lambda) / (2 * M_PI) < rigid_threshold ||
-                std::abs(p.lambda.imag()) <= 1e-9 * std::abs(p.lambda))
-              continue;
             HarmonicMode mode;
-            mode.harmonic         = h.n;
+            mode.harmonic         = n;
             mode.lambda           = p.lambda;
             mode.backward_error   = p.backward_error;
-            mode.forward_fraction =
-              h.n == 0 ? std::numeric_limits<double>::quiet_NaN() : forward_fraction(h, p.phi);
+            mode.forward_fraction = n == 0 ? std::numeric_limits<double>::quiet_NaN() :
+                                             forward_fraction(matrices[hk], p.phi);
             // the 3D model's rule on the whirl ratio 2 f - 1 (doc/theory.md 9.2)
             const double ratio = 2 * mode.forward_fraction - 1;
-            mode.travel        = h.n == 0      ? "-" :
+            mode.travel        = n == 0         ? "-" :
                                  ratio >= 0.1  ? "forward" :
                                  ratio <= -0.1 ? "backward" :
                                                  "mixed";
+            mode.whirl         = n == 1 ? mode.travel : "non-lateral";
+            mode.index         = modes.size() + 1;
             modes.push_back(mode);
+            // a line continues only in its direction of travel
+            r.modes.emplace_back(std::move(p));
+            r.modes.back().whirl = n == 0 ? "non-lateral" : mode.travel;
           }
-        std::sort(modes.begin(), modes.end(), [](const HarmonicMode &a, const HarmonicMode &b) {
-          return a.lambda.imag() < b.lambda.imag();
-        });
-        // a degenerate pair (at rest on isotropic bearings) is one standing
-        // wave twice, any mix of the two travelling ones: backward first,
-        // then forward, as the 3D model lists a doublet at rest
-        for (unsigned int i = 0; h.n > 0 && i + 1 < modes.size(); ++i)
-          if (std::abs(modes[i + 1].lambda - modes[i].lambda) <= 1e-7 * std::abs(modes[i].lambda))
-            {
-              modes[i].travel     = "backward";
-              modes[i + 1].travel = "forward";
-              ++i;
-            }
-        for (auto &m : modes)
-          m.whirl = h.n == 1 ? m.travel : "non-lateral";
-        if (modes.size() > modes_per_harmonic)
-          modes.resize(modes_per_harmonic);
+        auto lines = trackers[hk].track(s.rpm, r.modes);
+        const auto number = [&](const unsigned int local) {
+          const auto [it, added] = line_ids.emplace(std::make_pair(n, local), line_ids.size() + 1);
+          return it->second;
+        };
         for (unsigned int i = 0; i < modes.size(); ++i)
-          modes[i].index = i + 1;
+          modes[i].tracked_id = r.modes[i].tracked_id = number(r.modes[i].tracked_id);
+        HarmonicEigenproblem eigen(*this, hk);
+        for (auto &c : lines)
+          {
+            c.tracked_id    = number(c.tracked_id);
+            const auto line = std::find_if(r.modes.begin(), r.modes.end(), [&](const WhirlMode &m) {
+              return m.tracked_id == c.tracked_id;
+            });
+            solve_crossing(c, *line, s, eigen, log);
+            c.harmonic = n;
+            c.travel   = n == 0 ? "-" : c.whirl;
+            c.whirl    = n == 1 ? c.whirl : "non-lateral";
+            n_unsolved += c.solved ? 0 : 1;
+            crossings.crossings.push_back(c);
+          }
+        for (auto o : onsets[hk]->find(r, s, eigen))
+          {
+            o.harmonic = n;
+            o.travel   = n == 0 ? "-" : o.whirl;
+            o.whirl    = n == 1 ? o.whirl : "non-lateral";
+            found.push_back(o);
+          }
         n_modes_written += modes.size();
         result.insert(result.end(), modes.begin(), modes.end());
       }
+    n_critical += crossings.crossings.size();
+    critical_table.add(crossings);
+    onset_table.add(found);
     return result;
   }
 
-  double
-  HarmonicProblem::forward_fraction(const HarmonicAssembler::Harmonic &h,
-                                    const ComplexVector               &phi) const
+  void
+  HarmonicProblem::wave_amplitudes(const HarmonicAssembler::Harmonic &h,
+                                   const ComplexVector               &phi,
+                                   std::vector<std::complex<double>> &forward,
+                                   std::vector<std::complex<double>> &backward) const
   {
     // per node the cos and sin coefficients (C, S) of u_r, u_t, u_z; a wave
-    // travelling forward has S = -i C: |C + i S|^2 forward, |C - i S|^2 backward
+    // travelling forward has S = -i C: C + i S is its amplitude, C - i S
+    // the backward wave's
     std::vector<std::complex<double>> value(meridian.dofs().n_dofs());
     for (unsigned int I = 0; I < h.free.n_free; ++I)
       value[h.free.dof[I]] = {phi.re[I], phi.im[I]};
     const auto at = [&](const types::global_dof_index dof) { return value[dof]; };
     const std::complex<double> i(0., 1.);
-    double                     forward = 0, backward = 0;
+    forward.clear();
+    backward.clear();
     for (const auto &node : meridian.nodes())
       {
         const std::complex<double> C[3] = {at(node[FourierBasis::a]), at(node[FourierBasis::c]),
@@ -361,9 +575,80 @@ namespace rotorfit
                                            at(node[FourierBasis::f])};
         for (unsigned int k = 0; k < 3; ++k)
           {
-            forward += std::norm(C[k] + i * S[k]);
-            backward += std::norm(C[k] - i * S[k]);
+            forward.push_back(C[k] + i * S[k]);
+            backward.push_back(C[k] - i * S[k]);
           }
+      }
+  }
+
+  void
+  HarmonicProblem::travelling_waves(const HarmonicAssembler::Harmonic &h,
+                                    EigenPair                         &a,
+                                    EigenPair                         &b) const
+  {
+    // x^H F x / x^H T x over x in span(a, b), F the forward share, T the
+    // whole: its two stationary points (det(F - mu T) = 0) are the waves
+    std::vector<std::complex<double>> fa, ba, fb, bb;
+    wave_amplitudes(h, a.phi, fa, ba);
+    wave_amplitudes(h, b.phi, fb, bb);
+    const auto dot = [](const std::vector<std::complex<double>> &x,
+                        const std::vector<std::complex<double>> &y) {
+      std::complex<double> sum = 0;
+      for (unsigned int k = 0; k < x.size(); ++k)
+        sum += std::conj(x[k]) * y[k];
+      return sum;
+    };
+    const double               F11 = dot(fa, fa).real(), F22 = dot(fb, fb).real();
+    const std::complex<double> F12 = dot(fa, fb);
+    const double               T11 = F11 + dot(ba, ba).real(), T22 = F22 + dot(bb, bb).real();
+    const std::complex<double> T12 = F12 + dot(ba, bb);
+    // mu^2 det T - mu (F11 T22 + F22 T11 - 2 Re(conj(F12) T12)) + det F = 0
+    const double qa = T11 * T22 - std::norm(T12);
+    const double qb = -(F11 * T22 + F22 * T11 - 2 * (std::conj(F12) * T12).real());
+    const double qc = F11 * F22 - std::norm(F12);
+    const double d  = std::sqrt(std::max(0., qb * qb - 4 * qa * qc));
+    if (!(qa > 0))
+      return; // (dependent vectors: left as they are)
+    const auto combine = [&](const double mu) {
+      // a null vector of F - mu T, from the row of larger entries
+      std::complex<double> x1 = F12 - mu * T12, x2 = -(F11 - mu * T11);
+      const std::complex<double> y1 = F22 - mu * T22, y2 = -std::conj(F12 - mu * T12);
+      if (std::norm(y1) + std::norm(y2) > std::norm(x1) + std::norm(x2))
+        x1 = y1, x2 = y2;
+      EigenPair p = a;
+      for (auto [out, in_a, in_b] : {std::make_tuple(&p.phi, &a.phi, &b.phi),
+                                     std::make_tuple(&p.m_phi, &a.m_phi, &b.m_phi)})
+        for (unsigned int k = 0; k < out->re.size(); ++k)
+          {
+            const std::complex<double> v = x1 * std::complex<double>(in_a->re[k], in_a->im[k]) +
+                                           x2 * std::complex<double>(in_b->re[k], in_b->im[k]);
+            out->re[k] = v.real();
+            out->im[k] = v.imag();
+          }
+      const double norm = std::sqrt(p.phi.re.norm_sqr() + p.phi.im.norm_sqr());
+      for (auto *v : {&p.phi.re, &p.phi.im, &p.m_phi.re, &p.m_phi.im})
+        *v /= norm;
+      p.backward_error = std::max(a.backward_error, b.backward_error);
+      return p;
+    };
+    EigenPair backward = combine((-qb - d) / (2 * qa)), forward = combine((-qb + d) / (2 * qa));
+    backward.lambda = a.lambda;
+    forward.lambda  = b.lambda;
+    a = std::move(backward);
+    b = std::move(forward);
+  }
+
+  double
+  HarmonicProblem::forward_fraction(const HarmonicAssembler::Harmonic &h,
+                                    const ComplexVector               &phi) const
+  {
+    std::vector<std::complex<double>> f, b;
+    wave_amplitudes(h, phi, f, b);
+    double forward = 0, backward = 0;
+    for (unsigned int k = 0; k < f.size(); ++k)
+      {
+        forward += std::norm(f[k]);
+        backward += std::norm(b[k]);
       }
     return forward + backward > 0 ? forward / (forward + backward) : 0.5;
   }
@@ -403,6 +688,21 @@ namespace rotorfit
         << " s backward errors; " << restarts << " restarts, " << unconverged_slots
         << " slots unconverged\n" << std::setprecision(6);
     summary.add("eigen.worst_backward_error", worst_backward_error, 12);
+    if (response)
+      summary.add("response.worst_backward_error", worst_response_error, 3);
+    summary.add("eigen.critical_speeds", n_critical);
+    summary.add("eigen.critical_speeds_unsolved", n_unsolved);
+    summary.add("eigen.root_solve_eigen_solves", root_solves);
+    std::vector<StabilityOnset> all;
+    for (const auto &o : onsets)
+      all.insert(all.end(), o->list().begin(), o->list().end());
+    summary.add("modal.stability_onsets", all.size());
+    if (!all.empty())
+      summary.add("modal.first_stability_onset_rpm",
+                  std::min_element(all.begin(), all.end(), [](const auto &x, const auto &y) {
+                    return x.rpm < y.rpm;
+                  })->rpm);
+    log << "Critical speeds: " << n_critical << " crossing(s) in critical_speeds.csv\n";
     summary.add("eigen.unconverged_modes", n_unconverged);
   }
 } // namespace rotorfit

@@ -3,6 +3,7 @@
 #include <rotorfit/modal/mode_tracker.h>
 
 #include <cmath>
+#include <iomanip>
 
 namespace rotorfit
 {
@@ -70,7 +71,7 @@ namespace rotorfit
                   const std::function<double(std::complex<double>, double)> &g,
                   const double                                               g_tolerance,
                   const StaticState                                         &state,
-                  PrestressedEigenproblem                                   &eigen,
+                  SpeedEigenproblem                             &eigen,
                   Log                                                       &log,
                   const std::string                                         &what)
   {
@@ -137,6 +138,38 @@ namespace rotorfit
           }
         k.keep(trial.rpm, gc);
       }
+    return root;
+  }
+
+  LineRoot
+  solve_crossing(CriticalSpeed     &c,
+                 const WhirlMode   &line,
+                 const StaticState &state,
+                 SpeedEigenproblem &eigen,
+                 Log               &log)
+  {
+    const unsigned int k = c.order;
+    LineRoot           root =
+      solve_line_root(line, c.from_rpm, c.from_value, c.to_rpm, c.to_value,
+                      [k](const std::complex<double> l, const double rpm) {
+                        return l.imag() / (2 * M_PI) - k * rpm / 60.;
+                      },
+                      1e-9 * std::abs(c.frequency_hz), state, eigen, log,
+                      "critical speed of line " + std::to_string(c.tracked_id));
+    c.eigen_solves = root.evaluations;
+    c.solved       = root.converged;
+    if (root.evaluations > 0)
+      {
+        c.rpm           = root.rpm;
+        c.frequency_hz  = root.lambda.imag() / (2 * M_PI);
+        c.damping_ratio = -root.lambda.real() / std::abs(root.lambda);
+      }
+    log << "  critical speed: line " << c.tracked_id << " (" << c.whirl << ") meets " << k
+        << "X at " << std::setprecision(8) << c.rpm << " r/min, " << c.frequency_hz
+        << " Hz, damping ratio " << std::setprecision(4) << c.damping_ratio << " ("
+        << root.evaluations << " eigen solves, " << root.trials << " unchecked trials"
+        << (c.solved ? "" : "; NOT converged, the last trial is kept") << ")\n"
+        << std::setprecision(6);
     return root;
   }
 } // namespace rotorfit

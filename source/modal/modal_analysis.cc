@@ -88,7 +88,7 @@ namespace rotorfit
 
   void
   ModalAnalysis::solve_crossings(const StaticState                                         &state,
-                                 PrestressedEigenproblem                                   &eigen,
+                                 SpeedEigenproblem                             &eigen,
                                  const std::function<void(unsigned int, EigenSolution &&)> &solved)
   {
     for (unsigned int i = 0; i < result.crossings.size(); ++i)
@@ -102,30 +102,9 @@ namespace rotorfit
               solved(i, EigenSolution());
             continue;
           }
-        const unsigned int k = c.order;
-        LineRoot           root =
-          solve_line_root(*line, c.from_rpm, c.from_value, c.to_rpm, c.to_value,
-                          [k](const std::complex<double> l, const double rpm) {
-                            return l.imag() / (2 * M_PI) - k * rpm / 60.;
-                          },
-                          1e-9 * std::abs(c.frequency_hz), state, eigen, log,
-                          "critical speed of line " + std::to_string(c.tracked_id));
-        c.eigen_solves = root.evaluations;
-        c.solved       = root.converged;
-        if (root.evaluations > 0)
-          {
-            c.rpm           = root.rpm;
-            c.frequency_hz  = root.lambda.imag() / (2 * M_PI);
-            c.damping_ratio = -root.lambda.real() / std::abs(root.lambda);
-          }
+        LineRoot root = solve_crossing(c, *line, state, eigen, log);
         if (!c.solved)
           ++n_unsolved;
-        log << "  critical speed: line " << c.tracked_id << " (" << c.whirl << ") meets " << k
-            << "X at " << std::setprecision(8) << c.rpm << " r/min, " << c.frequency_hz
-            << " Hz, damping ratio " << std::setprecision(4) << c.damping_ratio << " ("
-            << root.evaluations << " eigen solves, " << root.trials << " unchecked trials"
-            << (c.solved ? "" : "; NOT converged, the last trial is kept") << ")\n"
-            << std::setprecision(6);
         if (solved)
           solved(i, !root.solution.elastic.empty() && root.solution.rpm == c.rpm ?
                       std::move(root.solution) :

@@ -24,7 +24,7 @@ namespace rotorfit
   std::vector<StabilityOnset>
   StabilityOnsets::find(const ModalResult       &current,
                         const StaticState       &state,
-                        PrestressedEigenproblem &eigen)
+                        SpeedEigenproblem &eigen)
   {
     std::vector<StabilityOnset> onsets;
     std::vector<const WhirlMode *> changed;
@@ -64,7 +64,7 @@ namespace rotorfit
   StabilityOnsets::root_solve(const WhirlMode         &line,
                               const double             rpm_b,
                               const StaticState       &state,
-                              PrestressedEigenproblem &eigen) const
+                              SpeedEigenproblem &eigen) const
   {
     StabilityOnset o;
     o.tracked_id    = line.tracked_id;

@@ -215,6 +215,7 @@ namespace rotorfit
     const bool with_modes = contents.modes;
     with_response         = contents.response;
     with_contact  = !model.interfaces().list().empty();
+    with_fit      = with_contact;
     if (write_paraview || (with_modes && write_shapes))
       paraview = std::make_unique<ParaViewOutput>(model, output_dir);
     if (!root)
@@ -298,7 +299,8 @@ namespace rotorfit
     if (with_contact)
       {
         drawn.add("plot_contact.py", {}, "contact.png");
-        drawn.add("plot_fit.py", {}, "fit.png");
+        if (with_fit)
+          drawn.add("plot_fit.py", {}, "fit.png");
       }
     if (with_modes && plot)
       drawn.add("plot_campbell.py",

@@ -186,7 +186,7 @@ namespace rotorfit
   void
   HarmonicCampbellTable::open(const std::string &directory)
   {
-    create(directory + "/campbell.csv", "speed_rpm,harmonic,mode,whirl,travel,frequency_hz,damping_ratio,"
+    create(directory + "/campbell.csv", "speed_rpm,harmonic,mode,tracked_id,whirl,travel,frequency_hz,damping_ratio,"
            "log_dec,stable,backward_error,forward_fraction,fit_state,static_converged", 10);
   }
 
@@ -199,7 +199,8 @@ namespace rotorfit
       {
         const double zeta   = -m.lambda.real() / std::abs(m.lambda);
         const double logdec = -2 * M_PI * m.lambda.real() / m.lambda.imag();
-        file << state.rpm << ',' << m.harmonic << ',' << m.index << ',' << m.whirl << ','
+        file << state.rpm << ',' << m.harmonic << ',' << m.index << ',' << m.tracked_id << ','
+             << m.whirl << ','
              << m.travel << ',' << m.frequency_hz() << ',' << zeta << ',' << logdec << ','
              << (m.lambda.real() <= 1e-8 * std::abs(m.lambda) ? 1 : 0) << ',' << m.backward_error
              << ',' << m.forward_fraction << ',' << csv_field(state.fit_state) << ','
@@ -209,10 +210,14 @@ namespace rotorfit
   }
 
   void
-  CriticalSpeedTable::open(const std::string &directory)
+  CriticalSpeedTable::open(const std::string &directory, const bool with_harmonic)
   {
-    create(directory + "/critical_speeds.csv", "tracked_id,whirl,order,speed_rpm,frequency_hz,kind,unbalance_excited,"
-           "damping_ratio,amplification_factor,solved,eigen_solves", 10);
+    harmonic_columns = with_harmonic;
+    create(directory + "/critical_speeds.csv",
+           with_harmonic ? "tracked_id,whirl,order,speed_rpm,frequency_hz,kind,unbalance_excited,"
+                           "damping_ratio,amplification_factor,solved,eigen_solves,harmonic,travel" :
+                           "tracked_id,whirl,order,speed_rpm,frequency_hz,kind,unbalance_excited,"
+                           "damping_ratio,amplification_factor,solved,eigen_solves", 10);
   }
 
   void
@@ -233,7 +238,10 @@ namespace rotorfit
              << c.frequency_hz << ',' << (lateral ? "lateral" : "non-lateral") << ','
              << (excited ? 1 : 0) << ',' << c.damping_ratio << ','
              << (c.damping_ratio > 0 ? 1 / (2 * c.damping_ratio) : 0.) << ','
-             << (c.solved ? 1 : 0) << ',' << c.eigen_solves << '\n';
+             << (c.solved ? 1 : 0) << ',' << c.eigen_solves;
+        if (harmonic_columns)
+          file << ',' << c.harmonic << ',' << csv_field(c.travel);
+        file << '\n';
       }
     file << std::flush;
   }
@@ -315,10 +323,14 @@ namespace rotorfit
 namespace rotorfit
 {
   void
-  StabilityOnsetTable::open(const std::string &directory)
+  StabilityOnsetTable::open(const std::string &directory, const bool with_harmonic)
   {
+    harmonic_columns = with_harmonic;
     create(directory + "/stability_onsets.csv",
-           "tracked_id,whirl,onset_rpm,frequency_hz,direction,evaluations,converged", 10);
+           with_harmonic ? "tracked_id,whirl,onset_rpm,frequency_hz,direction,evaluations,converged,"
+                           "harmonic,travel" :
+                           "tracked_id,whirl,onset_rpm,frequency_hz,direction,evaluations,converged",
+           10);
   }
 
   void
@@ -327,8 +339,13 @@ namespace rotorfit
     if (!file.is_open())
       return;
     for (const auto &o : onsets)
-      file << o.tracked_id << ',' << csv_field(o.whirl) << ',' << o.rpm << ',' << o.frequency_hz << ','
-           << csv_field(o.direction) << ',' << o.evaluations << ',' << (o.converged ? 1 : 0) << '\n';
+      {
+        file << o.tracked_id << ',' << csv_field(o.whirl) << ',' << o.rpm << ',' << o.frequency_hz << ','
+           << csv_field(o.direction) << ',' << o.evaluations << ',' << (o.converged ? 1 : 0);
+        if (harmonic_columns)
+          file << ',' << o.harmonic << ',' << csv_field(o.travel);
+        file << '\n';
+      }
     file << std::flush;
   }
 } // namespace rotorfit

@@ -103,10 +103,7 @@ namespace rotorfit
         log << "Warning: " << w << ".\n";
     if (harmonic)
       {
-        harmonic->setup(model, eigen.bearing_list());
-        if (response.enabled())
-          log << "Warning: Geometry/Model = axisymmetric does not solve the unbalance "
-                 "response yet: no response.csv (Geometry/Model = 3d solves it).\n";
+        harmonic->setup(model, eigen.bearing_list(), response);
         // the fit designer's checks are 3D-only yet: say so where they are asked for
         bool asked = false;
         for (const auto &f : model.interfaces().list())
@@ -175,6 +172,7 @@ namespace rotorfit
   {
     const auto &rpm = speeds.speeds_rpm();
     harmonic->start(results.directory(), std::pow(SpeedSchedule::rpm_to_rad_per_s(rpm.back()), 2));
+    results.draw_harmonic_tables(!model.interfaces().list().empty(), response.enabled());
     assembled   = true;
     sweep_start = std::chrono::steady_clock::now();
     for (unsigned int k = 0; k < rpm.size(); ++k)
@@ -482,7 +480,11 @@ namespace rotorfit
   {
     Summary summary;
     if (harmonic && assembled)
-      harmonic->finish(summary);
+      {
+        harmonic->finish(summary);
+        response.finish(summary);
+        results.write_response_peaks(response.peaks());
+      }
     else if (assembled)
       {
         statics.finish(summary);
@@ -505,7 +507,7 @@ namespace rotorfit
     const double peak = Utilities::MPI::sum(resources::resident_bytes(true), comm);
     summary.add("run.peak_memory_gb", peak / 1e9);
     log << "Peak memory: " << resources::gigabytes(peak) << " (resident, all ranks)\n";
-    results.finish(summary, !harmonic && modal_steps > 0);
+    results.finish(summary, harmonic ? harmonic->modes_written() : modal_steps > 0);
     if (assembled)
       {
         timer.print_summary();

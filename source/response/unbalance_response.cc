@@ -128,22 +128,32 @@ namespace rotorfit
   }
 
   void
-  UnbalanceResponse::setup(const Bearings &bearings)
+  UnbalanceResponse::setup(const Bearings &bearings, const std::function<void(Station &)> &place)
   {
     if (!enabled())
       return;
+    const auto put = [&](Station &s) {
+      if (place)
+        place(s);
+      else
+        s.setup(model, log);
+    };
     std::vector<Probe> extra;
     extra.swap(probes);
     for (const auto &b : bearings.list())
-      probes.push_back({b.name, b.station});
+      {
+        probes.push_back({b.name, b.station});
+        if (place) // (on the 3D mesh the bearings have placed their own)
+          place(probes.back().station);
+      }
     for (auto &u : unbalances)
       {
-        u.station.setup(model, log);
+        put(u.station);
         probes.push_back({u.name, u.station});
       }
     for (auto &[name, s] : extra)
       {
-        s.setup(model, log);
+        put(s);
         probes.push_back({name, s});
       }
     for (unsigned int i = 0; i < probes.size(); ++i)
@@ -173,8 +183,7 @@ namespace rotorfit
     // (cos(Omega t + phi), sin(Omega t + phi)) turning with the rotor
     for (const auto &u : unbalances)
       {
-        const std::complex<double> fx = u.mass_eccentricity * std::polar(1., u.phase),
-                                   fy = std::complex<double>(0, -1) * fx;
+        const std::complex<double> fx = u.force_x(), fy = std::complex<double>(0, -1) * fx;
         const Station &s = u.station;
         for (unsigned int i = 0; i < s.weight.size(); ++i)
           {
@@ -218,22 +227,27 @@ namespace rotorfit
             out.converged = attempt(on_modes, modes, {f, w, f_norm}, u, out);
           }
       }
+    out.probes = read_probes(u);
+    record(out);
+    return out;
+  }
+
+  void
+  UnbalanceResponse::record(ResponseAtSpeed &out, const std::string &remedy)
+  {
     if (!std::isfinite(out.residual))
       out.converged = false;
-    out.probes = read_probes(u);
     if (!out.converged)
       {
         ++unconverged_speeds;
-        log << "Warning: unbalance response at " << state.rpm << " r/min: the residual "
+        log << "Warning: unbalance response at " << out.rpm << " r/min: the residual "
             << std::setprecision(3) << out.residual << " is above Unbalance response/Residual "
             << "tolerance = " << tolerance << " after " << out.basis_size
-            << " basis vectors; the row is flagged (converged = 0). Raise Maximum "
-               "enrichments or Eigenproblem/Number of modes.\n";
+            << " basis vectors; the row is flagged (converged = 0). " << remedy << ".\n";
       }
     if (!(out.residual <= worst_residual))
       worst_residual = out.residual;
     history.push_back(out);
-    return out;
   }
 
   bool

@@ -63,6 +63,11 @@ namespace rotorfit
     add_sparsity(dealii::DynamicSparsityPattern &dsp) const;
 
     /// k and c of bearing @p b at @p rpm (table: interpolated, held at the ends).
+    /// Every bearing isotropic at @p rpm: [[k, q], [-q, k]] in stiffness
+    /// and damping, which keeps the rotor axisymmetric.
+    bool
+    isotropic(const double rpm) const;
+
     void
     coefficients(const unsigned int b,
                  const double       rpm,

@@ -10,6 +10,7 @@
 #include <rotorfit/eigen/reduced_estimates.h>
 #include <rotorfit/eigen/reduced_model.h>
 #include <rotorfit/eigen/reduced_solve.h>
+#include <rotorfit/eigen/speed_eigenproblem.h>
 #include <rotorfit/eigen/speed_tangent.h>
 #include <rotorfit/eigen/stress_self_check.h>
 #include <rotorfit/eigen/tie_update.h>
@@ -51,7 +52,7 @@ namespace rotorfit
    * Parameters: subsections "Eigenproblem" (model and solver entries),
    * "Bearings" and "Bearing <name>".
    */
-  class PrestressedEigenproblem
+  class PrestressedEigenproblem : public SpeedEigenproblem
   {
   public:
     using ContactModel     = SpeedTangent::ContactModel;
@@ -114,7 +115,7 @@ namespace rotorfit
 
     /// The modes at the speed of @p state.
     EigenSolution
-    solve(const StaticState &state);
+    solve(const StaticState &state) override;
 
     /// A root-solve trial (doc/theory.md 9.5, 9.7): the modes of @p state on the
     /// reduced model alone, without the full-space checks, where the
@@ -122,7 +123,7 @@ namespace rotorfit
     /// nothing solved). Only to locate a root; what is reported there comes
     /// from solve().
     bool
-    solve_trial(const StaticState &state, EigenSolution &solution);
+    solve_trial(const StaticState &state, EigenSolution &solution) override;
 
     /// The matrices of the last solve() (valid until the next solve) and
     /// the factorisation of Q(sigma) = K_t + sigma C + sigma^2 M of the

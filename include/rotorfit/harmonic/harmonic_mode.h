@@ -10,6 +10,8 @@ namespace rotorfit
   {
     unsigned int         harmonic = 0; ///< n: nodal diameters (1: whirl)
     unsigned int         index    = 0; ///< 1, 2, ... by frequency within the harmonic
+    /// the line of the Campbell diagram (numbered over all harmonics)
+    unsigned int         tracked_id = 0;
     std::complex<double> lambda;       ///< [rad/s], Im >= 0
     /// as in the 3D model: "forward" or "backward" for n = 1 (the lateral
     /// whirl), "non-lateral" otherwise (a station's mean lateral motion is 0)

@@ -5,17 +5,22 @@
 #include <rotorfit/bearing/bearings.h>
 #include <rotorfit/contact/contact_solver.h>
 #include <rotorfit/eigen/damped_eigensolver.h>
+#include <rotorfit/eigen/speed_eigenproblem.h>
 #include <rotorfit/harmonic/harmonic_assembler.h>
 #include <rotorfit/harmonic/harmonic_mode.h>
 #include <rotorfit/harmonic/meridian_model.h>
+#include <rotorfit/modal/mode_tracker.h>
+#include <rotorfit/modal/stability_onset.h>
 #include <rotorfit/model/discretization.h>
 #include <rotorfit/output/tables.h>
+#include <rotorfit/response/unbalance_response.h>
 #include <rotorfit/statics/fit_history.h>
 #include <rotorfit/statics/static_state.h>
 
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/timer.h>
 
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -29,9 +34,14 @@ namespace rotorfit
    * ContactSolver), then for every listed harmonic the damped eigenproblem
    * of section 4 on that state (pre-stress, -Omega^2 K_theta, gyroscopics,
    * closed rings tied, bearings on harmonic 1), by the 3D model's
-   * DampedEigensolver. Writes contact.csv, pair_openings.csv,
-   * contact_events.csv and campbell.csv (with the harmonic of each mode),
-   * and adds its keys to summary.txt.
+   * DampedEigensolver. The modes of each harmonic are tracked into the
+   * lines of the Campbell diagram (ModeTracker, lines numbered over all
+   * harmonics), their crossings with the excitation orders and the sign
+   * changes of their damping are root-solved on the harmonic's own
+   * eigenproblem (solve_crossing, StabilityOnsets: the 3D model's code).
+   * Writes contact.csv, pair_openings.csv, contact_events.csv,
+   * campbell.csv, critical_speeds.csv and stability_onsets.csv (with the
+   * harmonic of each line), and adds its keys to summary.txt.
    *
    * Parameters: subsection "Harmonic model"; it reads the entries of
    * "Eigenproblem", "Contact" and "Physics" the 3D model declares.
@@ -48,9 +58,10 @@ namespace rotorfit
     parse_parameters(dealii::ParameterHandler &prm);
 
     /// The meridian of @p model's bodies and interfaces, the stations of
-    /// @p bearings; refuses what the model cannot represent.
+    /// @p bearings and of @p response's unbalances and probes; refuses what
+    /// the model cannot represent.
     void
-    setup(const Discretization &model, const Bearings &bearings);
+    setup(const Discretization &model, const Bearings &bearings, UnbalanceResponse &response);
 
     /// Assemble, open the tables in @p directory; @p w_max: the largest
     /// Omega^2 of the run.
@@ -70,10 +81,81 @@ namespace rotorfit
     void
     finish(Summary &summary) const;
 
+    /// Whether campbell.csv is written (its picture can be drawn).
+    bool
+    modes_written() const
+    {
+      return compute_modes && eigen_solves > 0;
+    }
+
   private:
-    /// The modes of every harmonic at @p state.
+    /// One harmonic's damped eigenproblem, for the root solves along its
+    /// lines (no reduced model: a trial is the checked solve of a plane
+    /// problem).
+    class HarmonicEigenproblem : public SpeedEigenproblem
+    {
+    public:
+      HarmonicEigenproblem(HarmonicProblem &problem, const unsigned int k)
+        : problem(problem)
+        , k(k)
+      {}
+      EigenSolution
+      solve(const StaticState &state) override
+      {
+        ++problem.root_solves;
+        return problem.solve_harmonic(k, state);
+      }
+      bool
+      solve_trial(const StaticState &, EigenSolution &) override
+      {
+        return false;
+      }
+
+    private:
+      HarmonicProblem   &problem;
+      const unsigned int k;
+    };
+
+    /// The modes of every harmonic at @p state, tracked; crossings and
+    /// onsets since the previous speed root-solved and written.
     std::vector<HarmonicMode>
     solve_modes(const StaticState &state);
+
+    /// K_sigma of @p state's contact law (kept while the law is shared).
+    void
+    prepare_prestress(const StaticState &state);
+
+    /// K_t and C = Omega G + C_b of harmonic @p k (index into the list) at
+    /// @p state.rpm on @p state's law, on the harmonic's pattern.
+    void
+    speed_matrices(const unsigned int          k,
+                   const StaticState          &state,
+                   dealii::SparseMatrix<double> &stiffness,
+                   dealii::SparseMatrix<double> &damping);
+
+    /// The unbalance response of harmonic @p k (harmonic 1) at @p state:
+    /// (K_t - Omega^2 M + i Omega C) U = F Omega^2, solved directly (UMFPACK
+    /// on its real 2 x 2 block form), read at the probes.
+    ResponseAtSpeed
+    solve_response(const unsigned int k, const StaticState &state);
+
+    /// The elastic modes of harmonic @p k (index into the list) at
+    /// @p state.rpm on @p state's law: lowest first, at most Modes per
+    /// harmonic; a degenerate pair turned into its two travelling waves.
+    EigenSolution
+    solve_harmonic(const unsigned int k, const StaticState &state);
+
+    /// Turn the degenerate pair @p a, @p b (one eigenvalue) into the
+    /// backward (in @p a) and the forward (in @p b) travelling wave.
+    void
+    travelling_waves(const HarmonicAssembler::Harmonic &h, EigenPair &a, EigenPair &b) const;
+
+    /// Per node and component the complex amplitudes of the forward
+    /// (C + i S) and backward (C - i S) waves of an eigenvector of @p h.
+    void
+    wave_amplitudes(const HarmonicAssembler::Harmonic &h, const ComplexVector &phi,
+                    std::vector<std::complex<double>> &forward,
+                    std::vector<std::complex<double>> &backward) const;
 
     /// Forward share of an eigenvector of harmonic @p h.
     double
@@ -87,7 +169,10 @@ namespace rotorfit
     const Bearings      *bearings   = nullptr;
     const ContactInterfaces *interfaces = nullptr;
     dealii::IndexSet     owned;
+    /// the bearings' stations, then the unbalances' and the probes'
     std::vector<Station> stations;
+    UnbalanceResponse   *response = nullptr;
+    double               worst_response_error = 0; ///< normwise backward error of the solves
 
     // settings
     std::vector<unsigned int> harmonics;
@@ -97,6 +182,8 @@ namespace rotorfit
     bool                      prestress = true, centrifugal_prestress = true, convective = true;
     double                    tie_scale       = 1000;
     double                    rigid_threshold = 1;
+    std::vector<unsigned int> orders{1};
+    double                    mac_threshold = 0.8;
 
     // statics
     HarmonicAssembler::StaticSystem system;
@@ -114,7 +201,14 @@ namespace rotorfit
     std::shared_ptr<const ContactSolver::Decomposition> prestress_law;
     std::vector<std::unique_ptr<dealii::SparseMatrix<double>>> k_sigma_I, k_sigma_C;
     unsigned int                                        prestress_assemblies = 0;
+    std::vector<double>                      tie_penalty; ///< per ring pair
     DampedEigensolver                        eigensolver;
+    // the lines: a tracker and onset finder per harmonic; (harmonic, its
+    // tracker's id) -> the line's number over all harmonics
+    std::vector<ModeTracker>                      trackers;
+    std::vector<std::unique_ptr<StabilityOnsets>> onsets;
+    std::map<std::pair<unsigned int, unsigned int>, unsigned int> line_ids;
+    unsigned int n_critical = 0, n_unsolved = 0, root_solves = 0;
     DampedEigensolver::Statistics            statistics;
     unsigned int                             n_unconverged = 0, n_modes_written = 0;
     unsigned int eigen_solves = 0, unconverged_slots = 0, restarts = 0;
@@ -126,6 +220,9 @@ namespace rotorfit
     PairOpeningTable      opening_table;
     ContactEventTable     event_table;
     HarmonicCampbellTable campbell_table;
+    CriticalSpeedTable    critical_table;
+    StabilityOnsetTable   onset_table;
+    ResponseTable         response_table;
 
   };
 } // namespace rotorfit

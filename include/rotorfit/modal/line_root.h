@@ -1,7 +1,8 @@
 #pragma once
 
 #include <rotorfit/base/log.h>
-#include <rotorfit/eigen/prestressed_eigenproblem.h>
+#include <rotorfit/eigen/speed_eigenproblem.h>
+#include <rotorfit/modal/mode_tracker.h>
 #include <rotorfit/modal/whirl.h>
 #include <rotorfit/statics/static_state.h>
 
@@ -45,7 +46,19 @@ namespace rotorfit
                   const std::function<double(std::complex<double>, double)>       &g,
                   const double                                                     g_tolerance,
                   const StaticState                                               &state,
-                  PrestressedEigenproblem                                         &eigen,
+                  SpeedEigenproblem                                   &eigen,
                   Log                                                             &log,
                   const std::string                                               &what);
+
+  /// Crossing @p c of @p line with its excitation order (its bracket from
+  /// ModeTracker::track) solved for its speed by solve_line_root on
+  /// f - k rpm / 60 to 1e-9 of the frequency: c's speed, frequency,
+  /// damping, solve count and solved flag set, the result logged. Returns
+  /// the root (with its checked solution at c.rpm, if any).
+  LineRoot
+  solve_crossing(CriticalSpeed     &c,
+                 const WhirlMode   &line,
+                 const StaticState &state,
+                 SpeedEigenproblem &eigen,
+                 Log               &log);
 } // namespace rotorfit

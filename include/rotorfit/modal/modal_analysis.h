@@ -2,7 +2,7 @@
 
 #include <rotorfit/base/log.h>
 #include <rotorfit/eigen/eigen_solution.h>
-#include <rotorfit/eigen/prestressed_eigenproblem.h>
+#include <rotorfit/eigen/speed_eigenproblem.h>
 #include <rotorfit/modal/mode_tracker.h>
 #include <rotorfit/modal/whirl.h>
 #include <rotorfit/model/discretization.h>
@@ -70,7 +70,7 @@ namespace rotorfit
     /// solve, which starts from the same contact law and basis either way.
     void
     solve_crossings(const StaticState                                         &state,
-                    PrestressedEigenproblem                                   &eigen,
+                    SpeedEigenproblem                             &eigen,
                     const std::function<void(unsigned int, EigenSolution &&)> &solved = {});
 
     /// The modes of a solution off the sweep (a critical speed): whirl

@@ -19,6 +19,9 @@ namespace rotorfit
     double       from_rpm = 0, from_value = 0, to_rpm = 0, to_value = 0;
     unsigned int eigen_solves = 0;     ///< of the root solve
     bool         solved       = false; ///< by the root solve (else interpolated)
+    /// axisymmetric model: the line's harmonic and travel direction (3D: -1)
+    int          harmonic = -1;
+    std::string  travel;
   };
 
   /**

@@ -2,7 +2,7 @@
 
 #include <rotorfit/base/log.h>
 #include <rotorfit/base/summary.h>
-#include <rotorfit/eigen/prestressed_eigenproblem.h>
+#include <rotorfit/eigen/speed_eigenproblem.h>
 #include <rotorfit/modal/modal_analysis.h>
 #include <rotorfit/statics/static_state.h>
 
@@ -21,6 +21,9 @@ namespace rotorfit
     std::string  direction;       ///< "unstable above" or "stable above"
     unsigned int evaluations = 0; ///< eigen solves of the root solve
     bool         converged   = false;
+    /// axisymmetric model: the line's harmonic and travel direction (3D: -1)
+    int          harmonic = -1;
+    std::string  travel;
   };
 
   /**
@@ -45,10 +48,17 @@ namespace rotorfit
     /// solves @p eigen at trial speeds (its matrices are those of the last
     /// trial afterwards).
     std::vector<StabilityOnset>
-    find(const ModalResult &current, const StaticState &state, PrestressedEigenproblem &eigen);
+    find(const ModalResult &current, const StaticState &state, SpeedEigenproblem &eigen);
 
     void
     finish(Summary &summary) const;
+
+    /// The onsets found so far.
+    const std::vector<StabilityOnset> &
+    list() const
+    {
+      return found;
+    }
 
   private:
     /// Illinois regula falsi on the damping ratio of @p line_at_b between
@@ -57,7 +67,7 @@ namespace rotorfit
     root_solve(const WhirlMode         &line_at_b,
                const double             rpm_b,
                const StaticState       &state,
-               PrestressedEigenproblem &eigen) const;
+               SpeedEigenproblem &eigen) const;
 
     struct Point
     {

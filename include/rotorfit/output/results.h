@@ -115,6 +115,18 @@ namespace rotorfit
     void
     write_response_peaks(const std::vector<ResponsePeak> &peaks);
 
+    /// A run on the axisymmetric model writes its own tables: the contact
+    /// picture is drawn of them (@p contact: the run has interfaces), the
+    /// response pictures where it has unbalances (@p response), the fit
+    /// picture not (no fit.csv).
+    void
+    draw_harmonic_tables(const bool contact, const bool response)
+    {
+      with_contact  = contact;
+      with_fit      = false;
+      with_response = response;
+    }
+
     /// Write summary.txt, then draw the pictures (which read it).
     void
     finish(const Summary &summary, const bool with_modes);
@@ -159,6 +171,7 @@ namespace rotorfit
     StabilityOnsetTable             stability;
     bool                            with_response = false;
     bool                            with_contact  = false;
+    bool                            with_fit      = false; ///< fit.csv is written
     std::unique_ptr<ParaViewOutput> paraview;
   };
 } // namespace rotorfit

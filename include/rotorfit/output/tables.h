@@ -112,10 +112,14 @@ namespace rotorfit
   {
   public:
     void
-    open(const std::string &directory);
+    /// @p harmonic_columns: the axisymmetric model's columns harmonic, travel
+    open(const std::string &directory, const bool harmonic_columns = false);
     void
     add(const ModalResult &modes);
 
+
+  private:
+    bool harmonic_columns = false;
   };
 
   /// rigid_modes.csv: rigid-body, loose-body and overdamped eigenvalues.
@@ -134,9 +138,13 @@ namespace rotorfit
   {
   public:
     void
-    open(const std::string &directory);
+    /// @p harmonic_columns: the axisymmetric model's columns harmonic, travel
+    open(const std::string &directory, const bool harmonic_columns = false);
     void
     add(const std::vector<StabilityOnset> &onsets);
+
+  private:
+    bool harmonic_columns = false;
   };
 
   /// response.csv: one row per speed and probe of the unbalance response.

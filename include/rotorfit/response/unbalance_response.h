@@ -11,6 +11,7 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include <array>
+#include <functional>
 #include <complex>
 #include <string>
 #include <utility>
@@ -115,9 +116,11 @@ namespace rotorfit
       return !unbalances.empty();
     }
 
-    /// Stations of the unbalances, bearings and probes.
+    /// Stations of the unbalances, bearings and probes: on the 3D mesh, or
+    /// (@p place given) each placed by it, the bearings' too (the
+    /// axisymmetric model's meridian).
     void
-    setup(const Bearings &bearings);
+    setup(const Bearings &bearings, const std::function<void(Station &)> &place = {});
 
     /// The response at the speed of @p state (after eigen.solve() there).
     ResponseAtSpeed
@@ -139,7 +142,6 @@ namespace rotorfit
     void
     finish(Summary &summary) const;
 
-  private:
     /// An unbalance mass of the list "Unbalances".
     struct Unbalance
     {
@@ -147,8 +149,52 @@ namespace rotorfit
       Station station;
       double  mass_eccentricity = 0; ///< [kg m]
       double  phase             = 0; ///< [rad]
+
+      /// F_x per unit Omega^2: m e e^{i phi} (F_y = -i F_x, doc/theory.md 13)
+      std::complex<double>
+      force_x() const
+      {
+        return mass_eccentricity * std::polar(1., phase);
+      }
     };
 
+    /// A station whose response is read: a bearing, an unbalance or one of
+    /// the list "Probes".
+    struct Probe
+    {
+      std::string name;
+      Station     station;
+    };
+
+    const std::vector<Unbalance> &
+    unbalance_list() const
+    {
+      return unbalances;
+    }
+
+    /// The probes, in the order of response.csv (after setup()).
+    const std::vector<Probe> &
+    probe_list() const
+    {
+      return probes;
+    }
+
+    /// Unbalance response/Residual tolerance.
+    double
+    residual_tolerance() const
+    {
+      return tolerance;
+    }
+
+    /// Record @p out, a speed's response solved elsewhere (the axisymmetric
+    /// model) or by solve(): not converged if its residual is not finite,
+    /// flagged and warned about (with @p remedy) if not converged; kept for
+    /// the peaks.
+    void
+    record(ResponseAtSpeed   &out,
+           const std::string &remedy = "Raise Maximum enrichments or Eigenproblem/Number of modes");
+
+  private:
     /// The forcing of a speed: F Omega^2, Omega [rad/s] and ||F Omega^2||.
     struct Load
     {
@@ -197,14 +243,6 @@ namespace rotorfit
     Log                  &log;
 
     std::vector<Unbalance> unbalances;
-    /// A station whose response is read: a bearing, an unbalance or one of
-    /// the list "Probes".
-    struct Probe
-    {
-      std::string name;
-      Station     station;
-    };
-
     std::vector<Probe>     probes;
     std::vector<double>    operating;
     double                 tolerance      = 1e-8;
