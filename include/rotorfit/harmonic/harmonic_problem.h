@@ -212,7 +212,8 @@ namespace rotorfit
     DampedEigensolver::Statistics            statistics;
     unsigned int                             n_unconverged = 0, n_modes_written = 0;
     unsigned int eigen_solves = 0, unconverged_slots = 0, restarts = 0;
-    double       factor_seconds = 0, arnoldi_seconds = 0, check_seconds = 0;
+    double       factor_seconds = 0, arnoldi_seconds = 0, check_seconds = 0, matrix_seconds = 0,
+                 response_seconds = 0;
     double                                   worst_backward_error = 0;
 
     // tables
