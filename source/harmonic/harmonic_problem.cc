@@ -182,6 +182,10 @@ namespace rotorfit
                         comm},
                        w_max);
     history = std::make_unique<FitHistory>(meridian.pairs(), *interfaces, log);
+    // the swept mesh: at least 8 sectors per wave of the highest harmonic
+    paraview = std::make_unique<MeridianOutput>(
+      meridian, directory,
+      std::max(24u, 8 * *std::max_element(harmonics.begin(), harmonics.end())));
     // tie penalties from the radial stiffness of the two nodes (doc/theory.md 7.4)
     const auto &pairs = meridian.pairs().pairs();
     tie_penalty.resize(pairs.size());
@@ -208,9 +212,10 @@ namespace rotorfit
   }
 
   const StaticState &
-  HarmonicProblem::solve_speed(const unsigned int k, const double rpm)
+  HarmonicProblem::solve_speed(const unsigned int k, const double rpm, const ParaViewFiles files)
   {
-    state = StaticState::solve(contact, rpm, k, timer);
+    files_now = files;
+    state     = StaticState::solve(contact, rpm, k, timer);
     for (const double f : state.contact.force)
       if (!std::isfinite(f))
         throw SolverFailure(rpm, "the static solve at " + format_number(rpm) +
@@ -219,20 +224,32 @@ namespace rotorfit
     contact_table.add(state);
     opening_table.add(state);
     event_table.add(state);
+    if (files.solution)
+      {
+        TimerOutput::Scope         t(timer, "output (ParaView)");
+        PETScWrappers::MPI::Vector u;
+        state.displacement(u);
+        paraview->write_static(Vector<double>(u), state, "solution", k);
+      }
     if (compute_modes)
       {
-        TimerOutput::Scope t(timer, "eigenproblem (harmonic model)");
-        const auto         modes = solve_modes(state);
-        campbell_table.add(state, modes);
+        std::vector<MeridianOutput::Shape> shapes;
+        {
+          TimerOutput::Scope t(timer, "eigenproblem (harmonic model)");
+          campbell_table.add(state, solve_modes(state, files.modes ? &shapes : nullptr));
+        }
+        if (files.modes)
+          {
+            TimerOutput::Scope t(timer, "output (ParaView)");
+            paraview->write_modes(shapes, state.rpm, "modes", k);
+          }
         if (response)
           {
             const unsigned int k = std::find_if(matrices.begin(), matrices.end(),
                                                 [](const auto &h) { return h.n == 1; }) -
                                    matrices.begin();
-            const auto      t0 = std::chrono::steady_clock::now();
-            ResponseAtSpeed r  = solve_response(k, state);
-            response_seconds +=
-              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            TimerOutput::Scope t(timer, "unbalance response");
+            ResponseAtSpeed    r = solve_response(k, state);
             response->record(r, "The direct solve of harmonic 1 is singular or ill-conditioned "
                                 "at this speed (a free rotor at rest, or a speed on an "
                                 "undamped critical speed)");
@@ -479,7 +496,7 @@ namespace rotorfit
   }
 
   std::vector<HarmonicMode>
-  HarmonicProblem::solve_modes(const StaticState &s)
+  HarmonicProblem::solve_modes(const StaticState &s, std::vector<MeridianOutput::Shape> *shapes)
   {
     std::vector<HarmonicMode>   result;
     ModalResult                 crossings;
@@ -511,6 +528,8 @@ namespace rotorfit
             mode.whirl         = n == 1 ? mode.travel : "non-lateral";
             mode.index         = modes.size() + 1;
             modes.push_back(mode);
+            if (shapes)
+              shapes->push_back(shape(hk, mode.index, p.phi));
             // a line continues only in its direction of travel
             r.modes.emplace_back(std::move(p));
             r.modes.back().whirl = n == 0 ? "non-lateral" : mode.travel;
@@ -529,7 +548,9 @@ namespace rotorfit
             const auto line = std::find_if(r.modes.begin(), r.modes.end(), [&](const WhirlMode &m) {
               return m.tracked_id == c.tracked_id;
             });
-            solve_crossing(c, *line, s, eigen, log);
+            const LineRoot root = solve_crossing(c, *line, s, eigen, log);
+            if (c.solved && (files_now.critical_solution || files_now.critical_modes))
+              write_critical_files(hk, c, s, root.solution);
             c.harmonic = n;
             c.travel   = n == 0 ? "-" : c.whirl;
             c.whirl    = n == 1 ? c.whirl : "non-lateral";
@@ -550,6 +571,46 @@ namespace rotorfit
     critical_table.add(crossings);
     onset_table.add(found);
     return result;
+  }
+
+  MeridianOutput::Shape
+  HarmonicProblem::shape(const unsigned int   hk,
+                         const unsigned int   index,
+                         const ComplexVector &phi) const
+  {
+    MeridianOutput::Shape shape{matrices[hk].n, index, {}};
+    const auto           &expansion = matrices[hk].free.expansion;
+    shape.value.resize(expansion.size());
+    for (unsigned int i = 0; i < expansion.size(); ++i)
+      for (const auto &[I, w] : expansion[i])
+        shape.value[i] += w * std::complex<double>(phi.re[I], phi.im[I]);
+    return shape;
+  }
+
+  void
+  HarmonicProblem::write_critical_files(const unsigned int   hk,
+                                        const CriticalSpeed &c,
+                                        const StaticState   &s,
+                                        const EigenSolution &solution)
+  {
+    // the state at the critical speed on this speed's law, as the root
+    // solve used it; the modes of the crossing's harmonic there
+    StaticState at = s;
+    at.rpm         = c.rpm;
+    if (files_now.critical_solution)
+      {
+        PETScWrappers::MPI::Vector u;
+        at.displacement(u);
+        paraview->write_static(Vector<double>(u), at, "critical_solution", n_critical_files);
+      }
+    if (files_now.critical_modes)
+      {
+        std::vector<MeridianOutput::Shape> shapes;
+        for (unsigned int m = 0; m < solution.elastic.size(); ++m)
+          shapes.push_back(shape(hk, m + 1, solution.elastic[m].phi));
+        paraview->write_modes(shapes, c.rpm, "critical_modes", n_critical_files);
+      }
+    ++n_critical_files;
   }
 
   void
@@ -690,11 +751,7 @@ namespace rotorfit
         << " slots unconverged\n" << std::setprecision(6);
     summary.add("eigen.worst_backward_error", worst_backward_error, 12);
     if (response)
-      {
-        summary.add("response.worst_backward_error", worst_response_error, 3);
-        log << "Unbalance response: " << std::setprecision(3) << response_seconds
-            << " s in the direct solves of harmonic 1\n" << std::setprecision(6);
-      }
+      summary.add("response.worst_backward_error", worst_response_error, 3);
     summary.add("eigen.critical_speeds", n_critical);
     summary.add("eigen.critical_speeds_unsolved", n_unsolved);
     summary.add("eigen.root_solve_eigen_solves", root_solves);

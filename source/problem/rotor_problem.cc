@@ -179,7 +179,10 @@ namespace rotorfit
       {
         run_control::stop_if_interrupted(comm, "before " + format_number(rpm[k]) + " r/min");
         current_step             = k;
-        const StaticState &state = harmonic->solve_speed(k, rpm[k]);
+        const auto [solution, shapes]                   = results.paraview_files(k, rpm[k]);
+        const auto [critical_solution, critical_shapes] = results.critical_files();
+        const StaticState &state =
+          harmonic->solve_speed(k, rpm[k], {solution, shapes, critical_solution, critical_shapes});
         finished_steps           = k + 1;
         log_speed(state);
         if (on_loss_of_fit == OnLossOfFit::stop && harmonic->every_fit_open())

@@ -9,6 +9,7 @@
 #include <rotorfit/harmonic/harmonic_assembler.h>
 #include <rotorfit/harmonic/harmonic_mode.h>
 #include <rotorfit/harmonic/meridian_model.h>
+#include <rotorfit/harmonic/meridian_output.h>
 #include <rotorfit/modal/mode_tracker.h>
 #include <rotorfit/modal/stability_onset.h>
 #include <rotorfit/model/discretization.h>
@@ -68,9 +69,19 @@ namespace rotorfit
     void
     start(const std::string &directory, const double w_max);
 
-    /// The static state and the modes of speed @p k, @p rpm; tables written.
+    /// Which ParaView files a speed gets (Output/ParaView speeds).
+    struct ParaViewFiles
+    {
+      bool solution = false; ///< the static state on the meridian
+      bool modes    = false; ///< the mode shapes, swept around the axis
+      /// the same at each critical speed found since the previous speed
+      bool critical_solution = false, critical_modes = false;
+    };
+
+    /// The static state and the modes of speed @p k, @p rpm; tables and
+    /// the ParaView files of @p files written.
     const StaticState &
-    solve_speed(const unsigned int k, const double rpm);
+    solve_speed(const unsigned int k, const double rpm, const ParaViewFiles files);
 
     bool
     every_fit_open() const
@@ -119,7 +130,20 @@ namespace rotorfit
     /// The modes of every harmonic at @p state, tracked; crossings and
     /// onsets since the previous speed root-solved and written.
     std::vector<HarmonicMode>
-    solve_modes(const StaticState &state);
+    solve_modes(const StaticState &state, std::vector<MeridianOutput::Shape> *shapes);
+
+    /// Mode @p index of harmonic @p k on every DoF of the meridian (the axis
+    /// relations included).
+    MeridianOutput::Shape
+    shape(const unsigned int k, const unsigned int index, const ComplexVector &phi) const;
+
+    /// The ParaView files of crossing @p c (harmonic @p k) at its speed, on
+    /// @p state's law, with the root solve's @p solution.
+    void
+    write_critical_files(const unsigned int   k,
+                         const CriticalSpeed &c,
+                         const StaticState   &state,
+                         const EigenSolution &solution);
 
     /// K_sigma of @p state's contact law (kept while the law is shared).
     void
@@ -134,8 +158,8 @@ namespace rotorfit
                    dealii::SparseMatrix<double> &damping);
 
     /// The unbalance response of harmonic @p k (harmonic 1) at @p state:
-    /// (K_t - Omega^2 M + i Omega C) U = F Omega^2, solved directly (UMFPACK
-    /// on its real 2 x 2 block form), read at the probes.
+    /// (K_t - Omega^2 M + i Omega C) U = F Omega^2, solved directly (UMFPACK's
+    /// complex LU), read at the probes.
     ResponseAtSpeed
     solve_response(const unsigned int k, const StaticState &state);
 
@@ -189,6 +213,9 @@ namespace rotorfit
     HarmonicAssembler::StaticSystem system;
     ContactSolver                   contact;
     std::unique_ptr<FitHistory>     history; ///< made by start(): it needs the pairs
+    std::unique_ptr<MeridianOutput> paraview; ///< made by start()
+    ParaViewFiles                   files_now;  ///< of the speed being solved
+    unsigned int                    n_critical_files = 0;
     StaticState                     state;
 
     // dynamics
@@ -212,8 +239,7 @@ namespace rotorfit
     DampedEigensolver::Statistics            statistics;
     unsigned int                             n_unconverged = 0, n_modes_written = 0;
     unsigned int eigen_solves = 0, unconverged_slots = 0, restarts = 0;
-    double       factor_seconds = 0, arnoldi_seconds = 0, check_seconds = 0, matrix_seconds = 0,
-                 response_seconds = 0;
+    double       factor_seconds = 0, arnoldi_seconds = 0, check_seconds = 0, matrix_seconds = 0;
     double                                   worst_backward_error = 0;
 
     // tables

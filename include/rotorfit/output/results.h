@@ -144,6 +144,24 @@ namespace rotorfit
     bool
     paraview_at(const unsigned int index, const double rpm) const;
 
+  public:
+    /// Whether the @p index-th speed, @p rpm, gets the ParaView solution and
+    /// mode shapes (the harmonic model, which writes its own files).
+    std::pair<bool, bool>
+    paraview_files(const unsigned int index, const double rpm) const
+    {
+      const bool at = paraview_at(index, rpm);
+      return {write_paraview && at, write_shapes && at};
+    }
+    /// The same at the critical speeds.
+    std::pair<bool, bool>
+    critical_files() const
+    {
+      return {write_paraview && at_critical, write_shapes && at_critical};
+    }
+
+  private:
+
     MPI_Comm    comm;
     Log        &log;
     bool        root;
