@@ -61,6 +61,10 @@ writes it).
   check_modes.py reduced_fallback EXE PRM OUT FREQ_TOL ZETA_TOL [SET ...]
       the same where an undamped anchor is refused and its speed solved in
       full.
+  check_modes.py refinement_modal EXE PRM OUT CYCLES REFERENCE TOL [SET ...]
+      the harmonic model's meridian refined adaptively: harmonic 1's first
+      mode at rest within TOL of REFERENCE after CYCLES cycles, closer than
+      on cycle 0.
 """
 import cmath
 import csv
@@ -631,6 +635,30 @@ def check_refinement(exe, prm, out, cycles, ratio, tol, *sets):
     return 0 if ok else 1
 
 
+def check_refinement_modal(exe, prm, out, cycles, reference, tol, *sets):
+    """Adaptive refinement of the harmonic model's meridian with the modal
+    indicator on a joint whose frequency converges slowly under uniform
+    refinement (TS: the sleeve's edge is a corner singularity): after CYCLES
+    cycles harmonic 1's first mode at rest lies within TOL of REFERENCE and
+    closer to it than on cycle 0."""
+    run_test.run(exe, prepare(prm, out, ["Mesh refinement/Cycles=" + cycles] + list(sets)))
+
+    def first(folder):
+        return min(float(r["frequency_hz"]) for r in at(rows(folder), 0.0) if r["harmonic"] == "1")
+
+    def dofs(folder):
+        return re.findall(r"Harmonic 1: (\d+) DoFs", open(os.path.join(folder, "log.txt")).read())[-1]
+
+    ref = float(reference)
+    e0 = (first(os.path.join(out, "cycle_0")) - ref) / ref
+    e1 = (first(out) - ref) / ref
+    good = abs(e1) <= float(tol) and abs(e1) < abs(e0)
+    print(f"harmonic 1, mode 1 at rest: {e0:+.3e} on cycle 0 ({dofs(os.path.join(out, 'cycle_0'))} "
+          f"DoFs), {e1:+.3e} after {cycles} cycles ({dofs(out)} DoFs) against {ref} "
+          f"(within {tol} and closer) {'ok' if good else 'FAILED'}")
+    return 0 if good else 1
+
+
 def check_locking(exe, prm, out, min_error, *sets):
     """Linear elements on the free-free cylinder (doc/limits.md): the run
     warns, and the warning is earned: the bending pair nearest the
@@ -1115,7 +1143,8 @@ if __name__ == "__main__":
               "unbalance": check_unbalance, "stability_onset": check_stability_onset,
               "torsion_crossing": check_torsion_crossing,
               "ring_symmetry": check_ring_symmetry, "study": check_study,
-              "refinement": check_refinement, "locking": check_locking, "asymmetry": check_asymmetry, "mpi": check_mpi, "failure": check_failure,
+              "refinement": check_refinement, "refinement_modal": check_refinement_modal,
+              "locking": check_locking, "asymmetry": check_asymmetry, "mpi": check_mpi, "failure": check_failure,
               "reduced": check_reduced, "reduced_fallback": check_reduced_fallback,
               "sweep_speeds": check_sweep_speeds, "history": check_history}
     if mode not in checks:

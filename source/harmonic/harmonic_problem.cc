@@ -224,12 +224,17 @@ namespace rotorfit
     contact_table.add(state);
     opening_table.add(state);
     event_table.add(state);
-    if (files.solution)
+    if (files.solution || indicators)
       {
-        TimerOutput::Scope         t(timer, "output (ParaView)");
         PETScWrappers::MPI::Vector u;
         state.displacement(u);
-        paraview->write_static(Vector<double>(u), state, "solution", k);
+        if (indicators)
+          indicators->add_meridian_static(meridian, Vector<double>(u));
+        if (files.solution)
+          {
+            TimerOutput::Scope t(timer, "output (ParaView)");
+            paraview->write_static(Vector<double>(u), state, "solution", k);
+          }
       }
     if (compute_modes)
       {
@@ -530,6 +535,8 @@ namespace rotorfit
             modes.push_back(mode);
             if (shapes)
               shapes->push_back(shape(hk, mode.index, p.phi));
+            if (indicators && n == 1)
+              indicators->add_meridian_mode(meridian, mode.index, shape(hk, mode.index, p.phi).value);
             // a line continues only in its direction of travel
             r.modes.emplace_back(std::move(p));
             r.modes.back().whirl = n == 0 ? "non-lateral" : mode.travel;
@@ -571,6 +578,15 @@ namespace rotorfit
     critical_table.add(crossings);
     onset_table.add(found);
     return result;
+  }
+
+  unsigned int
+  HarmonicProblem::max_harmonic_dofs() const
+  {
+    unsigned int n = 0;
+    for (const auto &h : matrices)
+      n = std::max(n, h.free.n_free);
+    return n;
   }
 
   MeridianOutput::Shape

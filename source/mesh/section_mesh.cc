@@ -423,10 +423,11 @@ namespace rotorfit
           }
   }
 
+  template <int dim>
   SectionMesh::Refinement
-  SectionMesh::refined(const Triangulation<3> &tria,
-                       const Vector<float>    &indicator,
-                       const double            fraction) const
+  SectionMesh::refined(const Triangulation<dim> &tria,
+                       const Vector<float>      &indicator,
+                       const double              fraction) const
   {
     const SectionLayout layout = plan();
     const auto         &z      = layout.axial_nodes();
@@ -439,19 +440,21 @@ namespace rotorfit
       interval[i].assign(chains[i].fractions.size() - 1, 0.);
     for (const auto &cell : tria.active_cell_iterators())
       {
-        const double   eta2 = std::pow(indicator[cell->active_cell_index()], 2);
-        const Point<3> x    = cell->center();
-        const auto     l    = std::upper_bound(z.begin(), z.end(), x[2]) - z.begin() - 1;
+        const double     eta2 = std::pow(indicator[cell->active_cell_index()], 2);
+        const Point<dim> x    = cell->center();
+        // 3D: Cartesian; the meridian: x = r, y = z
+        const double zc = x[dim - 1], rc = dim == 3 ? std::hypot(x[0], x[1]) : x[0];
+        const auto   l  = std::upper_bound(z.begin(), z.end(), zc) - z.begin() - 1;
         layer[std::clamp<long>(l, 0, layer.size() - 1)] += eta2;
         const unsigned int b = cell->material_id();
         for (unsigned int i = 0; i < chains.size(); ++i)
           {
             const auto &c = chains[i];
-            if (c.body != b || !(x[2] > sections[b][c.first].z0 && x[2] < sections[b][c.last].z1))
+            if (c.body != b || !(zc > sections[b][c.first].z0 && zc < sections[b][c.last].z1))
               continue;
-            const AxialSection &s = section_at(sections[b], x[2]);
-            const double        a = layout.inner_radius(c, s, x[2]);
-            const double   f = (std::hypot(x[0], x[1]) - a) / (s.ro(x[2]) - a);
+            const AxialSection &s = section_at(sections[b], zc);
+            const double        a = layout.inner_radius(c, s, zc);
+            const double        f = (rc - a) / (s.ro(zc) - a);
             if (f < 0) // the O-grid core: refined by the circumferential cells only
               break;
             const auto j = std::upper_bound(c.fractions.begin(), c.fractions.end(), f) -
@@ -493,5 +496,10 @@ namespace rotorfit
     next.layers_split = top(layer).size();
     return next;
   }
+
+  template SectionMesh::Refinement
+  SectionMesh::refined(const Triangulation<2> &, const Vector<float> &, const double) const;
+  template SectionMesh::Refinement
+  SectionMesh::refined(const Triangulation<3> &, const Vector<float> &, const double) const;
 
 } // namespace rotorfit

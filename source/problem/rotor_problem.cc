@@ -86,11 +86,6 @@ namespace rotorfit
       {
         harmonic = std::make_unique<HarmonicProblem>(comm, log, timer);
         harmonic->parse_parameters(prm);
-        if (refinement.cycles() > 0)
-          throw InputError("Mesh refinement/Cycles = " + std::to_string(refinement.cycles()) +
-                           ": adaptive refinement of the meridian is not built yet; refine it "
-                           "by Geometry/Sections/Element size and Fit element size, or use "
-                           "Geometry/Model = 3d.");
       }
   }
 
@@ -173,6 +168,11 @@ namespace rotorfit
     const auto &rpm = speeds.speeds_rpm();
     harmonic->start(results.directory(), std::pow(SpeedSchedule::rpm_to_rad_per_s(rpm.back()), 2));
     results.draw_harmonic_tables(!model.interfaces().list().empty(), response.enabled());
+    if (collect_indicators)
+      {
+        refinement.reset_meridian(harmonic->meridian_model());
+        harmonic->collect_indicators(refinement);
+      }
     assembled   = true;
     sweep_start = std::chrono::steady_clock::now();
     for (unsigned int k = 0; k < rpm.size(); ++k)
@@ -326,14 +326,18 @@ namespace rotorfit
         code = cycle.run_and_finish();
         if (code != exit_code::success)
           break;
-        const auto n_dofs = cycle.model.dofs().n_dofs();
+        const auto n_dofs =
+          cycle.harmonic ? cycle.harmonic->max_harmonic_dofs() : cycle.model.dofs().n_dofs();
         if (refinement.dof_target() > 0 && n_dofs >= refinement.dof_target())
           {
             log << "Mesh refinement: " << n_dofs << " DOFs reach the DOF target "
                 << refinement.dof_target() << "; no further cycle.\n";
             break;
           }
-        nodes = cycle.refinement.refine(cycle.model, log);
+        nodes = cycle.harmonic ? cycle.refinement.refine_meridian(cycle.model.mesh().sections(),
+                                                                  cycle.harmonic->meridian_model(),
+                                                                  log) :
+                                 cycle.refinement.refine(cycle.model, log);
       }
     // this run on the refined mesh; its log continues after the cycles'
     model.set_mesh_refinement(nodes);

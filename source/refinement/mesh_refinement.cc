@@ -23,8 +23,9 @@ namespace rotorfit
     prm.declare_entry("Cycles",
                       "0",
                       Patterns::Integer(0, 20),
-                      "Adaptive refinement cycles before the sweep (hexahedra of "
-                      "Geometry/Mesher = sections only). Each cycle solves the "
+                      "Adaptive refinement cycles before the sweep (Geometry/Mesher "
+                      "= sections only: its hexahedra, or the harmonic model's "
+                      "meridian). Each cycle solves the "
                       "Indicator speeds, writes its results to "
                       "<Output/Directory>/cycle_<k>/ and splits the axial layers "
                       "and radial intervals with the largest indicators; the sweep "
@@ -38,7 +39,8 @@ namespace rotorfit
                       "0",
                       Patterns::Integer(0),
                       "Stop refining once the mesh has at least this many DOFs "
-                      "(0: run all Cycles).");
+                      "(the harmonic model: its largest harmonic's; 0: run all "
+                      "Cycles).");
     prm.declare_entry("Indicator",
                       "static + modal",
                       Patterns::Selection("static|modal|static + modal"),
@@ -52,8 +54,8 @@ namespace rotorfit
     prm.declare_entry("Indicator modes",
                       "4",
                       Patterns::Integer(1, 100),
-                      "Lowest whirl modes (real and imaginary parts) in the modal "
-                      "indicator.");
+                      "Lowest whirl modes (real and imaginary parts; the harmonic "
+                      "model: harmonic 1's) in the modal indicator.");
     prm.leave_subsection();
   }
 
@@ -86,16 +88,15 @@ namespace rotorfit
     n_skipped = 0;
   }
 
+  template <int dim>
   void
-  MeshRefinement::add_field(const Discretization &model, const Vector<double> &field)
+  MeshRefinement::add_field(const Mapping<dim>       &mapping,
+                            const DoFHandler<dim>    &dofs,
+                            const Quadrature<dim - 1> &face_rule,
+                            const Vector<double>     &field)
   {
-    Vector<float> eta(model.mesh().triangulation().n_active_cells());
-    KellyErrorEstimator<3>::estimate(model.mesh().mapping(),
-                                     model.dofs(),
-                                     model.mesh().face_rule(model.element_order() + 1),
-                                     {},
-                                     field,
-                                     eta);
+    Vector<float> eta(dofs.get_triangulation().n_active_cells());
+    KellyErrorEstimator<dim>::estimate(mapping, dofs, face_rule, {}, field, eta);
     double total = 0;
     for (const float e : eta)
       total += double(e) * e;
@@ -122,7 +123,8 @@ namespace rotorfit
     Vector<double> field(model.dofs().n_dofs());
     for (types::global_dof_index i = 0; i < field.size(); ++i)
       field[i] = u[i];
-    add_field(model, field);
+    add_field(model.mesh().mapping(), model.dofs(),
+              model.mesh().face_rule(model.element_order() + 1), field);
   }
 
   void
@@ -132,19 +134,63 @@ namespace rotorfit
       return;
     for (unsigned int k = 0; k < std::min<std::size_t>(n_modes, solution.elastic.size()); ++k)
       {
-        add_field(model, solution.elastic[k].phi.re);
-        add_field(model, solution.elastic[k].phi.im);
+        for (const auto *part : {&solution.elastic[k].phi.re, &solution.elastic[k].phi.im})
+          add_field(model.mesh().mapping(), model.dofs(),
+                    model.mesh().face_rule(model.element_order() + 1), *part);
       }
+  }
+
+  void
+  MeshRefinement::reset_meridian(const MeridianModel &meridian)
+  {
+    eta2.reinit(meridian.triangulation().n_active_cells());
+    n_fields  = 0;
+    n_skipped = 0;
+  }
+
+  void
+  MeshRefinement::add_meridian_static(const MeridianModel &meridian, const Vector<double> &u)
+  {
+    if (use_static)
+      add_field(meridian.mapping(), meridian.dofs(), meridian.face_quadrature(), u);
+  }
+
+  void
+  MeshRefinement::add_meridian_mode(const MeridianModel                     &meridian,
+                                    const unsigned int                       index,
+                                    const std::vector<std::complex<double>> &u)
+  {
+    if (!use_modal || index > n_modes)
+      return;
+    Vector<double> re(u.size()), im(u.size());
+    for (unsigned int i = 0; i < u.size(); ++i)
+      re[i] = u[i].real(), im[i] = u[i].imag();
+    for (const auto *part : {&re, &im})
+      add_field(meridian.mapping(), meridian.dofs(), meridian.face_quadrature(), *part);
   }
 
   SectionMesh::Refinement
   MeshRefinement::refine(const Discretization &model, Log &log) const
   {
+    return refine(model.mesh().sections(), model.mesh().triangulation(), log);
+  }
+
+  SectionMesh::Refinement
+  MeshRefinement::refine_meridian(const SectionMesh   &sections,
+                                  const MeridianModel &meridian,
+                                  Log                 &log) const
+  {
+    return refine(sections, meridian.triangulation(), log);
+  }
+
+  template <int dim>
+  SectionMesh::Refinement
+  MeshRefinement::refine(const SectionMesh &sections, const Triangulation<dim> &tria, Log &log) const
+  {
     Vector<float> eta(eta2.size());
     for (unsigned int k = 0; k < eta.size(); ++k)
       eta[k] = std::sqrt(eta2[k]);
-    const auto &mesh = model.mesh();
-    const auto  next = mesh.sections().refined(mesh.triangulation(), eta, fraction);
+    const auto next = sections.refined(tria, eta, fraction);
     std::ostringstream m;
     m << "Mesh refinement: " << n_fields << " indicator field(s)";
     if (n_skipped > 0)

@@ -14,6 +14,7 @@
 #include <rotorfit/modal/stability_onset.h>
 #include <rotorfit/model/discretization.h>
 #include <rotorfit/output/tables.h>
+#include <rotorfit/refinement/mesh_refinement.h>
 #include <rotorfit/response/unbalance_response.h>
 #include <rotorfit/statics/fit_history.h>
 #include <rotorfit/statics/static_state.h>
@@ -82,6 +83,24 @@ namespace rotorfit
     /// the ParaView files of @p files written.
     const StaticState &
     solve_speed(const unsigned int k, const double rpm, const ParaViewFiles files);
+
+    /// Feed @p refinement's indicators at every speed (a refinement cycle):
+    /// the static displacement and harmonic 1's lowest modes.
+    void
+    collect_indicators(MeshRefinement &refinement)
+    {
+      indicators = &refinement;
+    }
+
+    const MeridianModel &
+    meridian_model() const
+    {
+      return meridian;
+    }
+
+    /// The largest harmonic's DoFs (the DOF target of the refinement).
+    unsigned int
+    max_harmonic_dofs() const;
 
     bool
     every_fit_open() const
@@ -215,6 +234,7 @@ namespace rotorfit
     std::unique_ptr<FitHistory>     history; ///< made by start(): it needs the pairs
     std::unique_ptr<MeridianOutput> paraview; ///< made by start()
     ParaViewFiles                   files_now;  ///< of the speed being solved
+    MeshRefinement                 *indicators = nullptr;
     unsigned int                    n_critical_files = 0;
     StaticState                     state;
 

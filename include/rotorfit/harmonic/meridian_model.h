@@ -73,6 +73,12 @@ namespace rotorfit
     {
       return dealii::QGauss<2>(order + 1);
     }
+    /// The same on a cell's faces.
+    dealii::QGauss<1>
+    face_quadrature() const
+    {
+      return dealii::QGauss<1>(order + 1);
+    }
     const Bodies &
     bodies() const
     {

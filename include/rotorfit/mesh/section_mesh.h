@@ -126,13 +126,14 @@ namespace rotorfit
     /**
      * The refinement after this one: the axial layers and the radial
      * intervals holding the largest sums of @p indicator^2 (per active cell
-     * of @p tria, the mesh this object created), a share @p fraction of each,
-     * are split in the middle.
+     * of @p tria, the hexahedra or the meridian this object created), a share
+     * @p fraction of each, are split in the middle.
      */
+    template <int dim>
     Refinement
-    refined(const dealii::Triangulation<3> &tria,
-            const dealii::Vector<float>    &indicator,
-            const double                    fraction) const;
+    refined(const dealii::Triangulation<dim> &tria,
+            const dealii::Vector<float>      &indicator,
+            const double                      fraction) const;
 
     /// One line per body for the log.
     std::string

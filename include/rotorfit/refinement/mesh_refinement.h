@@ -2,6 +2,7 @@
 
 #include <rotorfit/base/log.h>
 #include <rotorfit/eigen/eigen_solution.h>
+#include <rotorfit/harmonic/meridian_model.h>
 #include <rotorfit/mesh/section_mesh.h>
 #include <rotorfit/model/discretization.h>
 #include <rotorfit/statics/static_state.h>
@@ -9,6 +10,8 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include <deal.II/lac/vector.h>
+
+#include <complex>
 
 #include <string>
 #include <vector>
@@ -87,9 +90,33 @@ namespace rotorfit
     SectionMesh::Refinement
     refine(const Discretization &model, Log &log) const;
 
-  private:
+    /// The same on the harmonic model's meridian (doc/axisymmetric.md): a
+    /// cycle starts with reset_meridian(); the static displacement (harmonic
+    /// 0) and the real and imaginary parts of harmonic 1's lowest modes are
+    /// fields of the meridian's DoFs; the plan's layers and intervals are
+    /// split by the same rule.
     void
-    add_field(const Discretization &model, const dealii::Vector<double> &field);
+    reset_meridian(const MeridianModel &meridian);
+    void
+    add_meridian_static(const MeridianModel &meridian, const dealii::Vector<double> &u);
+    /// Mode @p index (1, 2, ... within harmonic 1) with values @p u.
+    void
+    add_meridian_mode(const MeridianModel                     &meridian,
+                      const unsigned int                       index,
+                      const std::vector<std::complex<double>> &u);
+    SectionMesh::Refinement
+    refine_meridian(const SectionMesh &sections, const MeridianModel &meridian, Log &log) const;
+
+  private:
+    template <int dim>
+    void
+    add_field(const dealii::Mapping<dim>       &mapping,
+              const dealii::DoFHandler<dim>    &dofs,
+              const dealii::Quadrature<dim - 1> &face_rule,
+              const dealii::Vector<double>     &field);
+    template <int dim>
+    SectionMesh::Refinement
+    refine(const SectionMesh &sections, const dealii::Triangulation<dim> &tria, Log &log) const;
 
     unsigned int          n_cycles   = 0;
     double                fraction   = 0.3;
