@@ -3,8 +3,11 @@
 the relative error of every run against a reference value, against DOFs and
 against wall time, one line per series (method).
 
-    python3 scripts/plot_study.py STUDY_DIR [--quantities q1,q2] \
+    python3 scripts/plot_study.py STUDY_DIR [STUDY_DIR ...] [--quantities q1,q2] \
         [--reference SERIES] [--title TEXT] [--output PREFIX]
+
+Several study folders draw their series on the same axes (a folder needs a
+study.csv; its extrapolated.csv is optional).
 
 The reference value of a quantity is the Richardson-extrapolated value of the
 reference series (default: the series whose finest run has the most DOFs,
@@ -39,7 +42,7 @@ def label(q):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("study_dir")
+    ap.add_argument("study_dir", nargs="+")
     ap.add_argument("--quantities", default="")
     ap.add_argument("--reference", default="")
     ap.add_argument("--value", action="append", default=[])
@@ -49,10 +52,14 @@ def main():
                     help="x axis of the right panel: wall time, or CPU time of the process and "
                          "its threads (steadier on a shared machine)")
     a = ap.parse_args()
-    rows = plot_common.read_csv(os.path.join(a.study_dir, "study.csv"))
-    ext = plot_common.read_csv(os.path.join(a.study_dir, "extrapolated.csv"))
-    if not rows:
-        sys.exit(f"plot_study: no study.csv in {a.study_dir}")
+    rows, ext = [], []
+    for d in a.study_dir:
+        found = plot_common.read_csv(os.path.join(d, "study.csv"))
+        if not found:
+            sys.exit(f"plot_study: no study.csv in {d}")
+        rows += found
+        if os.path.exists(os.path.join(d, "extrapolated.csv")):
+            ext += plot_common.read_csv(os.path.join(d, "extrapolated.csv"))
     series = []
     for r in rows:
         if r["series"] not in series:
@@ -63,7 +70,7 @@ def main():
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    prefix = a.output or os.path.join(a.study_dir, "error")
+    prefix = a.output or os.path.join(a.study_dir[0], "error")
     for q in quantities:
         if q in given:
             ref, ref_name = float(given[q]), "given value"

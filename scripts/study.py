@@ -13,8 +13,11 @@ wall time and peak memory of both runs, first, half and full opening speed,
 mean contact pressure at rest, the constraint error, the whirl pairs at the
 modal speeds, the 1X critical speeds. Per series and quantity, from its three
 finest runs: the Richardson-extrapolated value and the observed order, with
-the effective element size h = DOFs^(-1/3) (doc/accuracy.md); each run's
-error against it.
+the effective element size h = DOFs^(-1/3) (on the harmonic model's meridian
+DOFs^(-1/2), its largest harmonic's DoFs; doc/accuracy.md); each run's error
+against it. "one run": true solves every run once at the static and the modal
+speeds together (an adaptive mesh whose indicator needs the modes is then the
+same for all quantities).
 
 {
   "case": "../prm/test_shaft.prm",
@@ -151,25 +154,45 @@ def run_one(study, base_dir, exe, out, sets, reuse):
     case = os.path.normpath(os.path.join(base_dir, study["case"]))
     common = dict(study.get("set", {}))
     common.update(sets)
-    static = dict(common)
-    # the static sweep: no eigenproblem, so no unbalance response either
-    static.update({"Unbalances": "", "Probes": "",
-                   "Speeds/Mode": "list", "Speeds/List": study["static speeds"],
-                   "Eigenproblem/Compute modes": "false", "Output/Pictures": "false",
-                   "Output/Write ParaView files": "false"})
-    log_s, wall_s, mem_s, cpu_s = run_rotorfit(exe, case, os.path.join(out, "static"), static, reuse)
     modal = dict(common)
     modal.update({"Speeds/Mode": "list", "Speeds/List": study["modal speeds"],
                   "Output/Pictures": "false", "Output/Write ParaView files": "false",
                   "Eigenproblem/Write mode shapes": "false"})
-    log_m, wall_m, mem_m, cpu_m = run_rotorfit(exe, case, os.path.join(out, "modal"), modal, reuse)
+    if study.get("one run"):
+        # one run at every static and modal speed: an adaptive mesh whose
+        # indicator needs the modes is then the same for both
+        speeds = sorted({num(x) for x in (study["static speeds"] + "," +
+                                          study["modal speeds"]).split(",")})
+        modal["Speeds/List"] = ", ".join(f"{x:g}" for x in speeds)
+        log_m, wall_m, mem_m, cpu_m = run_rotorfit(exe, case, os.path.join(out, "modal"), modal,
+                                                   reuse)
+        log_s, wall_s, mem_s, cpu_s = log_m, 0.0, 0.0, 0.0
+        static_dir = os.path.join(out, "modal")
+    else:
+        static = dict(common)
+        # the static sweep: no eigenproblem, so no unbalance response either
+        static.update({"Unbalances": "", "Probes": "",
+                       "Speeds/Mode": "list", "Speeds/List": study["static speeds"],
+                       "Eigenproblem/Compute modes": "false", "Output/Pictures": "false",
+                       "Output/Write ParaView files": "false"})
+        log_s, wall_s, mem_s, cpu_s = run_rotorfit(exe, case, os.path.join(out, "static"), static,
+                                                   reuse)
+        log_m, wall_m, mem_m, cpu_m = run_rotorfit(exe, case, os.path.join(out, "modal"), modal,
+                                                   reuse)
+        static_dir = os.path.join(out, "static")
 
-    s = summary(os.path.join(out, "static"))
+    s = summary(static_dir)
     interfaces = sorted({k.split(".")[1] for k in s if k.startswith("interface.")})
     f = interfaces[0] if interfaces else ""
     # the last mesh of the log: refinement cycles log theirs before it
     found = re.findall(r"Mesh: (\d+) (\w+), (\d+) DOFs \((\w+)", log_s)
     m = found[-1] if found else None
+    meridian = re.findall(r"Meridian mesh: (\d+) quadrilaterals", log_s)
+    if not m and meridian:
+        # the harmonic model: its largest harmonic's DoFs (harmonic 1's)
+        last = log_s[log_s.rindex("Meridian mesh:"):]
+        dofs = max(int(x) for x in re.findall(r"Harmonic \d+: (\d+) DoFs", last))
+        m = (meridian[-1], "meridian", str(dofs), "Q2")
     row = {"dofs": int(m[2]) if m else 0, "cells": int(m[0]) if m else 0,
            "element": (m[1][:3] + " " + m[3]) if m else "",
            "wall_s": round(wall_s + wall_m, 2), "static_wall_s": round(wall_s, 2),
@@ -180,7 +203,7 @@ def run_one(study, base_dir, exe, out, sets, reuse):
            "first_open": num(s.get(f"interface.{f}.first_opening_rpm")),
            # the exact path's event, else interpolated between the static speeds
            "half_open": num(s[f"interface.{f}.half_open_rpm"])
-           if f"interface.{f}.half_open_rpm" in s else half_open(os.path.join(out, "static"), f),
+           if f"interface.{f}.half_open_rpm" in s else half_open(static_dir, f),
            "full_open": num(s.get(f"interface.{f}.loss_of_fit_rpm")),
            "constraint_error": num(s.get(f"interface.{f}.constraint_error_max"))}
     speeds = [num(x) for x in study["modal speeds"].split(",")]
@@ -230,7 +253,10 @@ def main():
             value, order = math.nan, math.nan
             if len(mine) >= 3:
                 last = mine[-3:]
-                value, order = richardson([r["dofs"] ** (-1 / 3) for r in last], [r[q] for r in last])
+                # a meridian (the harmonic model) is a plane mesh: h = DOFs^(-1/2)
+                dim = 2 if last[0]["element"].startswith("mer") else 3
+                value, order = richardson([r["dofs"] ** (-1 / dim) for r in last],
+                                          [r[q] for r in last])
             extrapolated.append({"series": series["name"], "quantity": q,
                                  "extrapolated": value, "observed_order": order,
                                  "finest": mine[-1][q] if mine else math.nan})

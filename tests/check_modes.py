@@ -61,6 +61,10 @@ writes it).
   check_modes.py reduced_fallback EXE PRM OUT FREQ_TOL ZETA_TOL [SET ...]
       the same where an undamped anchor is refused and its speed solved in
       full.
+  check_modes.py doublets EXE PRM OUT TOL [SET ...]
+      the harmonic model at rest: every mode of n >= 1 paired with its
+      partner (equal frequency within TOL, backward then forward), lines
+      continued at the next speed.
   check_modes.py refinement_modal EXE PRM OUT CYCLES REFERENCE TOL [SET ...]
       the harmonic model's meridian refined adaptively: harmonic 1's first
       mode at rest within TOL of REFERENCE after CYCLES cycles, closer than
@@ -659,6 +663,38 @@ def check_refinement_modal(exe, prm, out, cycles, reference, tol, *sets):
     return 0 if good else 1
 
 
+def check_doublets(exe, prm, out, tol, *sets):
+    """Rotational symmetry at rest on the harmonic model: every mode of a
+    harmonic n >= 1 at 0 r/min is one of a doublet, written as its backward
+    and forward travelling waves of equal frequency (within TOL), and the
+    lines continue at the next speed (no line starts there)."""
+    run_test.run(exe, prepare(prm, out, list(sets)))
+    table = rows(out)
+    ok = True
+    for n in sorted({r["harmonic"] for r in table if r["harmonic"] != "0"}):
+        rest = sorted((r for r in at(table, 0.0) if r["harmonic"] == n),
+                      key=lambda r: int(r["mode"]))
+        for a, b in zip(rest[0::2], rest[1::2]):
+            fa, fb = float(a["frequency_hz"]), float(b["frequency_hz"])
+            good = abs(fa - fb) <= float(tol) * fa and (a["travel"], b["travel"]) == \
+                ("backward", "forward")
+            print(f"harmonic {n}, modes {a['mode']}/{b['mode']}: {fa:.10g} / {fb:.10g} Hz, "
+                  f"{a['travel']} / {b['travel']} {'ok' if good else 'FAILED'}")
+            ok &= good
+        if len(rest) % 2:
+            print(f"harmonic {n}: {len(rest)} modes at rest, one without its partner FAILED")
+            ok = False
+        ids = {r["tracked_id"] for r in rest}
+        later = [r for r in table if r["harmonic"] == n and float(r["speed_rpm"]) > 0]
+        first_later = min((float(r["speed_rpm"]) for r in later), default=None)
+        new = {r["tracked_id"] for r in later if float(r["speed_rpm"]) == first_later} - ids
+        good = not new
+        print(f"harmonic {n}: lines new at {first_later} r/min: {sorted(new) or 'none'} "
+              f"{'ok' if good else 'FAILED'}")
+        ok &= good
+    return 0 if ok else 1
+
+
 def check_locking(exe, prm, out, min_error, *sets):
     """Linear elements on the free-free cylinder (doc/limits.md): the run
     warns, and the warning is earned: the bending pair nearest the
@@ -1144,6 +1180,7 @@ if __name__ == "__main__":
               "torsion_crossing": check_torsion_crossing,
               "ring_symmetry": check_ring_symmetry, "study": check_study,
               "refinement": check_refinement, "refinement_modal": check_refinement_modal,
+              "doublets": check_doublets,
               "locking": check_locking, "asymmetry": check_asymmetry, "mpi": check_mpi, "failure": check_failure,
               "reduced": check_reduced, "reduced_fallback": check_reduced_fallback,
               "sweep_speeds": check_sweep_speeds, "history": check_history}

@@ -1,5 +1,6 @@
 #include <rotorfit/base/format.h>
 #include <rotorfit/base/input_error.h>
+#include <rotorfit/eigen/backward_error.h>
 #include <rotorfit/harmonic/harmonic_problem.h>
 #include <rotorfit/modal/line_root.h>
 #include <rotorfit/statics/speed_schedule.h>
@@ -488,6 +489,11 @@ namespace rotorfit
     std::sort(e.begin(), e.end(), [](const EigenPair &a, const EigenPair &b) {
       return a.lambda.imag() < b.lambda.imag();
     });
+    if (h.n > 0 && s.rpm == 0 && (h.n >= 2 || solution.isotropic_supports) &&
+        add_missing_partners(hk, e) > 0)
+      std::sort(e.begin(), e.end(), [](const EigenPair &a, const EigenPair &b) {
+        return a.lambda.imag() < b.lambda.imag();
+      });
     // a degenerate pair (at rest on isotropic bearings) is one standing wave
     // twice, any mix of the two travelling ones: as travelling waves, backward
     // first (as the 3D model lists a doublet at rest), they continue the
@@ -556,6 +562,12 @@ namespace rotorfit
               return m.tracked_id == c.tracked_id;
             });
             const LineRoot root = solve_crossing(c, *line, s, eigen, log);
+            // the line's mode at the crossing: the root solve's mode at its frequency
+            const auto    &at   = root.solution.elastic;
+            for (unsigned int m = 0; c.solved && m < at.size(); ++m)
+              if (c.mode == 0 || std::abs(at[m].lambda.imag() - 2 * M_PI * c.frequency_hz) <
+                                   std::abs(at[c.mode - 1].lambda.imag() - 2 * M_PI * c.frequency_hz))
+                c.mode = m + 1;
             if (c.solved && (files_now.critical_solution || files_now.critical_modes))
               write_critical_files(hk, c, s, root.solution);
             c.harmonic = n;
@@ -627,6 +639,71 @@ namespace rotorfit
         paraview->write_modes(shapes, c.rpm, "critical_modes", n_critical_files);
       }
     ++n_critical_files;
+  }
+
+  ComplexVector
+  HarmonicProblem::turned(const HarmonicAssembler::Harmonic &h, const ComplexVector &phi) const
+  {
+    // u(theta - 90/n deg): a' = -b, b' = a, c' = d, d' = -c, e' = -f, f' = e
+    // (u_r = a cos + b sin, u_t = c cos - d sin, u_z = e cos + f sin)
+    const unsigned int source[FourierBasis::n_fields] = {FourierBasis::b, FourierBasis::c,
+                                                          FourierBasis::f, FourierBasis::a,
+                                                          FourierBasis::d, FourierBasis::e};
+    const double       sign[FourierBasis::n_fields]   = {-1, -1, -1, 1, 1, 1};
+    ComplexVector      out;
+    for (const auto *part : {&phi.re, &phi.im})
+      {
+        // every DoF's value (the axis relations included), then the turned
+        // field of each free DoF
+        Vector<double> value(h.free.expansion.size());
+        for (unsigned int i = 0; i < value.size(); ++i)
+          for (const auto &[I, w] : h.free.expansion[i])
+            value[i] += w * (*part)[I];
+        Vector<double> x(h.free.n_free);
+        for (unsigned int I = 0; I < h.free.n_free; ++I)
+          {
+            const auto  dof  = h.free.dof[I];
+            const auto &node = meridian.nodes()[meridian.node_of(dof)];
+            for (unsigned int k = 0; k < FourierBasis::n_fields; ++k)
+              if (node[k] == dof)
+                x[I] = sign[k] * value[node[source[k]]];
+          }
+        (part == &phi.re ? out.re : out.im) = std::move(x);
+      }
+    return out;
+  }
+
+  unsigned int
+  HarmonicProblem::add_missing_partners(const unsigned int hk, std::vector<EigenPair> &modes) const
+  {
+    const auto         &h = matrices[hk];
+    const BackwardError backward_error(petsc_m[hk], petsc_c[hk], petsc_k[hk]);
+    std::vector<EigenPair> added;
+    for (unsigned int i = 0; i < modes.size(); ++i)
+      {
+        const auto near = [&](const unsigned int j) {
+          return j < modes.size() &&
+                 std::abs(modes[j].lambda - modes[i].lambda) <= 1e-7 * std::abs(modes[i].lambda);
+        };
+        if ((i > 0 && near(i - 1)) || near(i + 1))
+          continue;
+        EigenPair q;
+        q.lambda         = modes[i].lambda;
+        q.phi            = turned(h, modes[i].phi);
+        const double norm = std::sqrt(q.phi.re.norm_sqr() + q.phi.im.norm_sqr());
+        if (!(norm > 0))
+          continue;
+        q.phi.re /= norm;
+        q.phi.im /= norm;
+        q.backward_error = backward_error(q.lambda, q.phi, q.m_phi);
+        // (the turned mode of a rotationally symmetric system is exact: a
+        // failed check means the mode was not one member of a doublet)
+        if (q.backward_error <= eigensolver.backward_error_limit())
+          added.push_back(std::move(q));
+      }
+    for (auto &q : added)
+      modes.push_back(std::move(q));
+    return added.size();
   }
 
   void

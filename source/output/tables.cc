@@ -215,7 +215,7 @@ namespace rotorfit
     harmonic_columns = with_harmonic;
     create(directory + "/critical_speeds.csv",
            with_harmonic ? "tracked_id,whirl,order,speed_rpm,frequency_hz,kind,unbalance_excited,"
-                           "damping_ratio,amplification_factor,solved,eigen_solves,harmonic,travel" :
+                           "damping_ratio,amplification_factor,solved,eigen_solves,harmonic,travel,mode" :
                            "tracked_id,whirl,order,speed_rpm,frequency_hz,kind,unbalance_excited,"
                            "damping_ratio,amplification_factor,solved,eigen_solves", 10);
   }
@@ -240,7 +240,7 @@ namespace rotorfit
              << (c.damping_ratio > 0 ? 1 / (2 * c.damping_ratio) : 0.) << ','
              << (c.solved ? 1 : 0) << ',' << c.eigen_solves;
         if (harmonic_columns)
-          file << ',' << c.harmonic << ',' << csv_field(c.travel);
+          file << ',' << c.harmonic << ',' << csv_field(c.travel) << ',' << c.mode;
         file << '\n';
       }
     file << std::flush;

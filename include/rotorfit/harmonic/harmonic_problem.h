@@ -193,6 +193,18 @@ namespace rotorfit
     void
     travelling_waves(const HarmonicAssembler::Harmonic &h, EigenPair &a, EigenPair &b) const;
 
+    /// Mode @p phi of harmonic @p h turned by 90/n degrees about the axis.
+    ComplexVector
+    turned(const HarmonicAssembler::Harmonic &h, const ComplexVector &phi) const;
+
+    /// At rest on isotropic supports every mode of n >= 1 is a doublet, but
+    /// a single-vector Arnoldi run may return one member only (a double
+    /// eigenvalue converges once): each mode of @p modes without its partner
+    /// gets it, the mode turned by 90/n degrees, checked by its backward
+    /// error on harmonic @p k's matrices. Returns the number added.
+    unsigned int
+    add_missing_partners(const unsigned int k, std::vector<EigenPair> &modes) const;
+
     /// Per node and component the complex amplitudes of the forward
     /// (C + i S) and backward (C - i S) waves of an eigenvector of @p h.
     void

@@ -19,9 +19,11 @@ namespace rotorfit
     double       from_rpm = 0, from_value = 0, to_rpm = 0, to_value = 0;
     unsigned int eigen_solves = 0;     ///< of the root solve
     bool         solved       = false; ///< by the root solve (else interpolated)
-    /// axisymmetric model: the line's harmonic and travel direction (3D: -1)
+    /// axisymmetric model: the line's harmonic and travel direction (3D: -1),
+    /// and its mode number within the harmonic at the crossing (0: unsolved)
     int          harmonic = -1;
     std::string  travel;
+    unsigned int mode = 0;
   };
 
   /**
