@@ -117,10 +117,13 @@ namespace rotorfit
                    model.interfaces(), model.roller_surfaces());
     bearings = &bearing_list;
     stations.clear();
+    bearing_bodies.clear();
     for (const auto &b : bearing_list.list())
       {
         Station s = b.station;
         meridian.station_weights(s);
+        for (const auto dof : s.dof_x)
+          bearing_bodies.push_back(meridian.node_bodies()[meridian.node_of(dof)]);
         std::ostringstream m;
         m << std::setprecision(4) << "  " << s.owner << ": " << s.describe() << ": r "
           << s.radius * 1e3 << " mm, z " << s.z * 1e3 << " mm, area " << s.area * 1e6
@@ -450,9 +453,9 @@ namespace rotorfit
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
     // rigid motions on top of the modes wanted: axial translation and twist
-    // (n = 0), translations and tilts (n = 1), of every body at most
-    const unsigned int n_bodies = meridian.bodies().size();
-    const unsigned int rigid    = h.n == 0 ? 2 * n_bodies : h.n == 1 ? 4 * n_bodies : 0;
+    // (n = 0) of every group of bodies the closed pairs tie together,
+    // translations and tilts (n = 1) of every such group no bearing holds
+    const unsigned int rigid = rigid_motions(h.n, s);
     const unsigned int wanted =
       std::min<unsigned int>(2 * (modes_per_harmonic + rigid), h.free.n_free - 2);
     auto pairs_found = eigensolver.solve(petsc_m[hk], petsc_c[hk], petsc_k[hk], wanted, statistics);
@@ -590,6 +593,44 @@ namespace rotorfit
     critical_table.add(crossings);
     onset_table.add(found);
     return result;
+  }
+
+  unsigned int
+  HarmonicProblem::rigid_motions(const unsigned int n, const StaticState &s) const
+  {
+    if (n >= 2)
+      return 0;
+    // groups of bodies: union-find over the interfaces with a closed pair
+    const unsigned int        n_bodies = meridian.bodies().size();
+    std::vector<unsigned int> group(n_bodies);
+    for (unsigned int b = 0; b < n_bodies; ++b)
+      group[b] = b;
+    const auto root = [&](unsigned int b) {
+      while (group[b] != b)
+        b = group[b];
+      return b;
+    };
+    const auto &pairs = meridian.pairs();
+    for (unsigned int i = 0; i < pairs.n_interfaces(); ++i)
+      for (const unsigned int p : pairs.pairs_of(i))
+        if (p < s.contact.active.size() && s.contact.active[p])
+          {
+            const auto b = pairs.bodies(i);
+            group[root(b[0])] = root(b[1]);
+            break;
+          }
+    std::vector<bool> held(n_bodies, false), counted(n_bodies, false);
+    for (const unsigned int b : bearing_bodies)
+      held[root(b)] = true;
+    unsigned int groups = 0, free_groups = 0;
+    for (unsigned int b = 0; b < n_bodies; ++b)
+      if (!counted[root(b)])
+        {
+          counted[root(b)] = true;
+          ++groups;
+          free_groups += held[root(b)] ? 0 : 1;
+        }
+    return n == 0 ? 2 * groups : 4 * free_groups;
   }
 
   unsigned int

@@ -193,6 +193,13 @@ namespace rotorfit
     void
     travelling_waves(const HarmonicAssembler::Harmonic &h, EigenPair &a, EigenPair &b) const;
 
+    /// Rigid motions harmonic @p n can have at @p state: 2 per group of
+    /// bodies tied by closed pairs (n = 0), 4 per group no bearing holds
+    /// (n = 1), none for n >= 2 (an upper bound: the eigensolver asks for
+    /// these on top of the modes wanted).
+    unsigned int
+    rigid_motions(const unsigned int n, const StaticState &state) const;
+
     /// Mode @p phi of harmonic @p h turned by 90/n degrees about the axis.
     ComplexVector
     turned(const HarmonicAssembler::Harmonic &h, const ComplexVector &phi) const;
@@ -247,6 +254,7 @@ namespace rotorfit
     std::unique_ptr<MeridianOutput> paraview; ///< made by start()
     ParaViewFiles                   files_now;  ///< of the speed being solved
     MeshRefinement                 *indicators = nullptr;
+    std::vector<unsigned int>       bearing_bodies; ///< bodies a bearing acts on
     unsigned int                    n_critical_files = 0;
     StaticState                     state;
 
