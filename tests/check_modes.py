@@ -65,6 +65,9 @@ writes it).
       the harmonic model at rest: every mode of n >= 1 paired with its
       partner (equal frequency within TOL, backward then forward), lines
       continued at the next speed.
+  check_modes.py rigid_rows EXE PRM OUT BODY [SET ...]
+      the harmonic model's rigid_modes.csv: the tied assembly's axial and
+      torsional rigid motions at rest, BODY loose once the fit is open.
   check_modes.py refinement_modal EXE PRM OUT CYCLES REFERENCE TOL [SET ...]
       the harmonic model's meridian refined adaptively: harmonic 1's first
       mode at rest within TOL of REFERENCE after CYCLES cycles, closer than
@@ -695,6 +698,41 @@ def check_doublets(exe, prm, out, tol, *sets):
     return 0 if ok else 1
 
 
+def check_rigid_rows(exe, prm, out, body, *sets):
+    """The harmonic model's rigid_modes.csv on a fit that opens (TS at 0 and
+    24,000 r/min): at rest the tied assembly's rigid motions are axial and
+    torsional only (harmonic 0, 'rigid', 'assembly'; the bearings hold
+    harmonic 1); with the fit fully open BODY is loose in harmonics 0 and 1
+    ('loose', BODY), the shaft nowhere in harmonic 1; every row below 1 Hz
+    and absent from campbell.csv."""
+    run_test.run(exe, prepare(prm, out, list(sets)))
+    rigid = rows(out, "rigid_modes.csv")
+    speeds_ = sorted({float(r["speed_rpm"]) for r in rigid})
+    first, last = 0.0, max(speeds_) if speeds_ else 0.0
+    ok = True
+
+    def kinds(rpm, n):
+        return {(r["kind"], r["body"]) for r in rigid
+                if float(r["speed_rpm"]) == rpm and r["harmonic"] == str(n)}
+
+    checks = [(f"at {first:g} r/min, harmonic 0", kinds(first, 0), {("rigid", "assembly")}),
+              (f"at {first:g} r/min, harmonic 1", kinds(first, 1), set()),
+              (f"at {last:g} r/min, harmonic 1", kinds(last, 1), {("loose", body)})]
+    for what, got, expected in checks:
+        good = got == expected
+        print(f"{what}: {sorted(got)} (expected {sorted(expected)}) {'ok' if good else 'FAILED'}")
+        ok &= good
+    good = ("loose", body) in kinds(last, 0)
+    print(f"at {last:g} r/min, harmonic 0: {sorted(kinds(last, 0))} includes loose {body} "
+          f"{'ok' if good else 'FAILED'}")
+    ok &= good
+    slow = all(math.hypot(float(r["real_part_per_s"]) / (2 * math.pi), float(r["frequency_hz"])) < 1
+               for r in rigid)
+    print(f"every row below 1 Hz: {slow}")
+    ok &= slow and last > first
+    return 0 if ok else 1
+
+
 def check_locking(exe, prm, out, min_error, *sets):
     """Linear elements on the free-free cylinder (doc/limits.md): the run
     warns, and the warning is earned: the bending pair nearest the
@@ -1180,7 +1218,7 @@ if __name__ == "__main__":
               "torsion_crossing": check_torsion_crossing,
               "ring_symmetry": check_ring_symmetry, "study": check_study,
               "refinement": check_refinement, "refinement_modal": check_refinement_modal,
-              "doublets": check_doublets,
+              "doublets": check_doublets, "rigid_rows": check_rigid_rows,
               "locking": check_locking, "asymmetry": check_asymmetry, "mpi": check_mpi, "failure": check_failure,
               "reduced": check_reduced, "reduced_fallback": check_reduced_fallback,
               "sweep_speeds": check_sweep_speeds, "history": check_history}

@@ -209,6 +209,7 @@ namespace rotorfit
       {
         campbell_table.open(directory);
         critical_table.open(directory, true);
+        rigid_table.open(directory, true);
         onset_table.open(directory, true);
         if (response)
           response_table.open(directory);
@@ -482,10 +483,35 @@ namespace rotorfit
               << p.backward_error << " (limit " << eigensolver.backward_error_limit() << ")";
             throw SolverFailure(s.rpm, m.str());
           }
-        // rigid motions and overdamped (real) roots are not modes of the diagram
-        if (std::abs(p.lambda) / (2 * M_PI) < rigid_threshold ||
-            std::abs(p.lambda.imag()) <= 1e-9 * std::abs(p.lambda))
-          continue;
+        // rigid motions and overdamped (real) roots are not modes of the
+        // diagram: rigid_modes.csv lists them, a loose body's by its name
+        const bool rigid = std::abs(p.lambda) / (2 * M_PI) < rigid_threshold;
+        if (rigid || std::abs(p.lambda.imag()) <= 1e-9 * std::abs(p.lambda))
+          {
+            RigidMode r;
+            r.kind           = rigid ? "rigid" : "overdamped";
+            r.body           = "assembly";
+            r.lambda         = p.lambda;
+            r.backward_error = p.backward_error;
+            r.harmonic       = h.n;
+            // a mode (nearly) all on one body of several: that body is loose
+            std::vector<double> share(meridian.bodies().size(), 0.);
+            double              total = 0;
+            for (unsigned int I = 0; I < h.free.n_free; ++I)
+              {
+                const double a = p.phi.re[I] * p.phi.re[I] + p.phi.im[I] * p.phi.im[I];
+                share[meridian.node_bodies()[meridian.node_of(h.free.dof[I])]] += a;
+                total += a;
+              }
+            const auto b = std::max_element(share.begin(), share.end()) - share.begin();
+            if (rigid && share.size() > 1 && share[b] > 0.99 * total)
+              {
+                r.kind = "loose";
+                r.body = meridian.bodies()[b].name;
+              }
+            solution.rigid.push_back(std::move(r));
+            continue;
+          }
         solution.elastic.push_back(std::move(p));
       }
     auto &e = solution.elastic;
@@ -521,6 +547,7 @@ namespace rotorfit
       {
         const unsigned int n        = matrices[hk].n;
         EigenSolution      solution = solve_harmonic(hk, s);
+        crossings.rigid.insert(crossings.rigid.end(), solution.rigid.begin(), solution.rigid.end());
         ModalResult        r;
         r.rpm   = s.rpm;
         r.index = s.index;
@@ -591,6 +618,7 @@ namespace rotorfit
       }
     n_critical += crossings.crossings.size();
     critical_table.add(crossings);
+    rigid_table.add(crossings);
     onset_table.add(found);
     return result;
   }

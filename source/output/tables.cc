@@ -247,9 +247,13 @@ namespace rotorfit
   }
 
   void
-  RigidModeTable::open(const std::string &directory)
+  RigidModeTable::open(const std::string &directory, const bool with_harmonic)
   {
-    create(directory + "/rigid_modes.csv", "speed_rpm,kind,body,real_part_per_s,frequency_hz,backward_error", 10);
+    harmonic_column = with_harmonic;
+    create(directory + "/rigid_modes.csv",
+           with_harmonic ? "speed_rpm,kind,body,real_part_per_s,frequency_hz,backward_error,harmonic" :
+                           "speed_rpm,kind,body,real_part_per_s,frequency_hz,backward_error",
+           10);
   }
 
   void
@@ -258,8 +262,13 @@ namespace rotorfit
     if (!file.is_open())
       return;
     for (const auto &r : modes.rigid)
-      file << modes.rpm << ',' << csv_field(r.kind) << ',' << csv_field(r.body) << ',' << r.lambda.real() << ','
-           << r.lambda.imag() / (2 * M_PI) << ',' << r.backward_error << '\n';
+      {
+        file << modes.rpm << ',' << csv_field(r.kind) << ',' << csv_field(r.body) << ','
+             << r.lambda.real() << ',' << r.lambda.imag() / (2 * M_PI) << ',' << r.backward_error;
+        if (harmonic_column)
+          file << ',' << r.harmonic;
+        file << '\n';
+      }
     file << std::flush;
   }
 } // namespace rotorfit

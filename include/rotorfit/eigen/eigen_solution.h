@@ -15,6 +15,7 @@ namespace rotorfit
     std::string          body; ///< the loose body, or "assembly"
     std::complex<double> lambda; ///< [rad/s]
     double               backward_error = 0;
+    int                  harmonic = -1; ///< axisymmetric model: its harmonic (3D: -1)
   };
 
   /**

@@ -288,6 +288,7 @@ namespace rotorfit
     ContactEventTable     event_table;
     HarmonicCampbellTable campbell_table;
     CriticalSpeedTable    critical_table;
+    RigidModeTable        rigid_table;
     StabilityOnsetTable   onset_table;
     ResponseTable         response_table;
 

@@ -126,11 +126,14 @@ namespace rotorfit
   class RigidModeTable : CsvTable
   {
   public:
+    /// @p harmonic_column: the axisymmetric model's column harmonic
     void
-    open(const std::string &directory);
+    open(const std::string &directory, const bool harmonic_column = false);
     void
     add(const ModalResult &modes);
 
+  private:
+    bool harmonic_column = false;
   };
 
   /// stability_onsets.csv: speeds where a line's damping ratio crosses zero.
