@@ -79,12 +79,7 @@ namespace rotorfit
     convective                  = prm.get_bool("Convective stiffness");
     rigid_threshold             = prm.get_double("Rigid-body threshold");
     // the 3D model's line tracking (ModalAnalysis declares the entries)
-    mac_threshold   = prm.get_double("MAC threshold");
-    const auto list = Utilities::split_string_list(prm.get("Excitation orders"), ',');
-    check_unique(list, "Eigenproblem/Excitation orders");
-    orders.clear();
-    for (const auto &o : list)
-      orders.push_back(Utilities::string_to_int(o));
+    tracker_template = ModeTracker::from_parameters(prm);
     prm.leave_subsection();
     prm.enter_subsection("Physics");
     spin_softening = prm.get_bool("Spin softening");
@@ -197,7 +192,7 @@ namespace rotorfit
       tie_penalty[i] = tie_scale * 0.5 *
                        (system.stiffness_diagonal[pairs[i].shaft_dofs[0]] +
                         system.stiffness_diagonal[pairs[i].hub_dofs[0]]);
-    trackers.assign(harmonics.size(), ModeTracker(orders, mac_threshold));
+    trackers.assign(harmonics.size(), tracker_template);
     onsets.clear();
     for (unsigned int k = 0; k < harmonics.size(); ++k)
       onsets.push_back(std::make_unique<StabilityOnsets>(log));
@@ -529,7 +524,7 @@ namespace rotorfit
     // lines of the next speed
     for (unsigned int i = 0; h.n > 0 && i + 1 < e.size(); ++i)
       if (std::abs(e[i + 1].lambda - e[i].lambda) <= 1e-7 * std::abs(e[i].lambda))
-        travelling_waves(h, e[i], e[i + 1]), ++i;
+        waves.split(h, e[i], e[i + 1]), ++i;
     if (e.size() > modes_per_harmonic)
       e.resize(modes_per_harmonic);
     return solution;
@@ -559,7 +554,7 @@ namespace rotorfit
             mode.lambda           = p.lambda;
             mode.backward_error   = p.backward_error;
             mode.forward_fraction = n == 0 ? std::numeric_limits<double>::quiet_NaN() :
-                                             forward_fraction(matrices[hk], p.phi);
+                                             waves.forward_fraction(matrices[hk], p.phi);
             // the 3D model's rule on the whirl ratio 2 f - 1 (doc/theory.md 9.2)
             const double ratio = 2 * mode.forward_fraction - 1;
             mode.travel        = n == 0         ? "-" :
@@ -675,13 +670,7 @@ namespace rotorfit
                          const unsigned int   index,
                          const ComplexVector &phi) const
   {
-    MeridianOutput::Shape shape{matrices[hk].n, index, {}};
-    const auto           &expansion = matrices[hk].free.expansion;
-    shape.value.resize(expansion.size());
-    for (unsigned int i = 0; i < expansion.size(); ++i)
-      for (const auto &[I, w] : expansion[i])
-        shape.value[i] += w * std::complex<double>(phi.re[I], phi.im[I]);
-    return shape;
+    return {matrices[hk].n, index, waves.expand(matrices[hk], phi)};
   }
 
   void
@@ -710,38 +699,6 @@ namespace rotorfit
     ++n_critical_files;
   }
 
-  ComplexVector
-  HarmonicProblem::turned(const HarmonicAssembler::Harmonic &h, const ComplexVector &phi) const
-  {
-    // u(theta - 90/n deg): a' = -b, b' = a, c' = d, d' = -c, e' = -f, f' = e
-    // (u_r = a cos + b sin, u_t = c cos - d sin, u_z = e cos + f sin)
-    const unsigned int source[FourierBasis::n_fields] = {FourierBasis::b, FourierBasis::c,
-                                                          FourierBasis::f, FourierBasis::a,
-                                                          FourierBasis::d, FourierBasis::e};
-    const double       sign[FourierBasis::n_fields]   = {-1, -1, -1, 1, 1, 1};
-    ComplexVector      out;
-    for (const auto *part : {&phi.re, &phi.im})
-      {
-        // every DoF's value (the axis relations included), then the turned
-        // field of each free DoF
-        Vector<double> value(h.free.expansion.size());
-        for (unsigned int i = 0; i < value.size(); ++i)
-          for (const auto &[I, w] : h.free.expansion[i])
-            value[i] += w * (*part)[I];
-        Vector<double> x(h.free.n_free);
-        for (unsigned int I = 0; I < h.free.n_free; ++I)
-          {
-            const auto  dof  = h.free.dof[I];
-            const auto &node = meridian.nodes()[meridian.node_of(dof)];
-            for (unsigned int k = 0; k < FourierBasis::n_fields; ++k)
-              if (node[k] == dof)
-                x[I] = sign[k] * value[node[source[k]]];
-          }
-        (part == &phi.re ? out.re : out.im) = std::move(x);
-      }
-    return out;
-  }
-
   unsigned int
   HarmonicProblem::add_missing_partners(const unsigned int hk, std::vector<EigenPair> &modes) const
   {
@@ -758,7 +715,7 @@ namespace rotorfit
           continue;
         EigenPair q;
         q.lambda         = modes[i].lambda;
-        q.phi            = turned(h, modes[i].phi);
+        q.phi            = waves.turned(h, modes[i].phi);
         const double norm = std::sqrt(q.phi.re.norm_sqr() + q.phi.im.norm_sqr());
         if (!(norm > 0))
           continue;
@@ -773,108 +730,6 @@ namespace rotorfit
     for (auto &q : added)
       modes.push_back(std::move(q));
     return added.size();
-  }
-
-  void
-  HarmonicProblem::wave_amplitudes(const HarmonicAssembler::Harmonic &h,
-                                   const ComplexVector               &phi,
-                                   std::vector<std::complex<double>> &forward,
-                                   std::vector<std::complex<double>> &backward) const
-  {
-    // per node the cos and sin coefficients (C, S) of u_r, u_t, u_z; a wave
-    // travelling forward has S = -i C: C + i S is its amplitude, C - i S
-    // the backward wave's
-    std::vector<std::complex<double>> value(meridian.dofs().n_dofs());
-    for (unsigned int I = 0; I < h.free.n_free; ++I)
-      value[h.free.dof[I]] = {phi.re[I], phi.im[I]};
-    const auto at = [&](const types::global_dof_index dof) { return value[dof]; };
-    const std::complex<double> i(0., 1.);
-    forward.clear();
-    backward.clear();
-    for (const auto &node : meridian.nodes())
-      {
-        const std::complex<double> C[3] = {at(node[FourierBasis::a]), at(node[FourierBasis::c]),
-                                           at(node[FourierBasis::e])};
-        const std::complex<double> S[3] = {at(node[FourierBasis::b]), -at(node[FourierBasis::d]),
-                                           at(node[FourierBasis::f])};
-        for (unsigned int k = 0; k < 3; ++k)
-          {
-            forward.push_back(C[k] + i * S[k]);
-            backward.push_back(C[k] - i * S[k]);
-          }
-      }
-  }
-
-  void
-  HarmonicProblem::travelling_waves(const HarmonicAssembler::Harmonic &h,
-                                    EigenPair                         &a,
-                                    EigenPair                         &b) const
-  {
-    // x^H F x / x^H T x over x in span(a, b), F the forward share, T the
-    // whole: its two stationary points (det(F - mu T) = 0) are the waves
-    std::vector<std::complex<double>> fa, ba, fb, bb;
-    wave_amplitudes(h, a.phi, fa, ba);
-    wave_amplitudes(h, b.phi, fb, bb);
-    const auto dot = [](const std::vector<std::complex<double>> &x,
-                        const std::vector<std::complex<double>> &y) {
-      std::complex<double> sum = 0;
-      for (unsigned int k = 0; k < x.size(); ++k)
-        sum += std::conj(x[k]) * y[k];
-      return sum;
-    };
-    const double               F11 = dot(fa, fa).real(), F22 = dot(fb, fb).real();
-    const std::complex<double> F12 = dot(fa, fb);
-    const double               T11 = F11 + dot(ba, ba).real(), T22 = F22 + dot(bb, bb).real();
-    const std::complex<double> T12 = F12 + dot(ba, bb);
-    // mu^2 det T - mu (F11 T22 + F22 T11 - 2 Re(conj(F12) T12)) + det F = 0
-    const double qa = T11 * T22 - std::norm(T12);
-    const double qb = -(F11 * T22 + F22 * T11 - 2 * (std::conj(F12) * T12).real());
-    const double qc = F11 * F22 - std::norm(F12);
-    const double d  = std::sqrt(std::max(0., qb * qb - 4 * qa * qc));
-    if (!(qa > 0))
-      return; // (dependent vectors: left as they are)
-    const auto combine = [&](const double mu) {
-      // a null vector of F - mu T, from the row of larger entries
-      std::complex<double> x1 = F12 - mu * T12, x2 = -(F11 - mu * T11);
-      const std::complex<double> y1 = F22 - mu * T22, y2 = -std::conj(F12 - mu * T12);
-      if (std::norm(y1) + std::norm(y2) > std::norm(x1) + std::norm(x2))
-        x1 = y1, x2 = y2;
-      EigenPair p = a;
-      for (auto [out, in_a, in_b] : {std::make_tuple(&p.phi, &a.phi, &b.phi),
-                                     std::make_tuple(&p.m_phi, &a.m_phi, &b.m_phi)})
-        for (unsigned int k = 0; k < out->re.size(); ++k)
-          {
-            const std::complex<double> v = x1 * std::complex<double>(in_a->re[k], in_a->im[k]) +
-                                           x2 * std::complex<double>(in_b->re[k], in_b->im[k]);
-            out->re[k] = v.real();
-            out->im[k] = v.imag();
-          }
-      const double norm = std::sqrt(p.phi.re.norm_sqr() + p.phi.im.norm_sqr());
-      for (auto *v : {&p.phi.re, &p.phi.im, &p.m_phi.re, &p.m_phi.im})
-        *v /= norm;
-      p.backward_error = std::max(a.backward_error, b.backward_error);
-      return p;
-    };
-    EigenPair backward = combine((-qb - d) / (2 * qa)), forward = combine((-qb + d) / (2 * qa));
-    backward.lambda = a.lambda;
-    forward.lambda  = b.lambda;
-    a = std::move(backward);
-    b = std::move(forward);
-  }
-
-  double
-  HarmonicProblem::forward_fraction(const HarmonicAssembler::Harmonic &h,
-                                    const ComplexVector               &phi) const
-  {
-    std::vector<std::complex<double>> f, b;
-    wave_amplitudes(h, phi, f, b);
-    double forward = 0, backward = 0;
-    for (unsigned int k = 0; k < f.size(); ++k)
-      {
-        forward += std::norm(f[k]);
-        backward += std::norm(b[k]);
-      }
-    return forward + backward > 0 ? forward / (forward + backward) : 0.5;
   }
 
   void

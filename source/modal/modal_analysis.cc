@@ -40,14 +40,8 @@ namespace rotorfit
   {
     prm.enter_subsection("Eigenproblem");
     n_stations    = prm.get_integer("Whirl stations");
-    mac_threshold = prm.get_double("MAC threshold");
-    const auto list = Utilities::split_string_list(prm.get("Excitation orders"), ',');
-    check_unique(list, "Eigenproblem/Excitation orders");
-    orders.clear();
-    for (const auto &o : list)
-      orders.push_back(Utilities::string_to_int(o));
+    tracker = ModeTracker::from_parameters(prm);
     prm.leave_subsection();
-    tracker = ModeTracker(orders, mac_threshold);
   }
 
   void

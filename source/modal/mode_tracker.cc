@@ -1,5 +1,8 @@
 #include <rotorfit/linear_algebra/blas.h>
+#include <rotorfit/base/input_error.h>
 #include <rotorfit/modal/mode_tracker.h>
+
+#include <deal.II/base/utilities.h>
 
 #include <algorithm>
 #include <cmath>
@@ -7,6 +10,17 @@
 
 namespace rotorfit
 {
+  ModeTracker
+  ModeTracker::from_parameters(const dealii::ParameterHandler &prm)
+  {
+    const auto list = dealii::Utilities::split_string_list(prm.get("Excitation orders"), ',');
+    check_unique(list, "Eigenproblem/Excitation orders");
+    std::vector<unsigned int> orders;
+    for (const auto &o : list)
+      orders.push_back(dealii::Utilities::string_to_int(o));
+    return ModeTracker(orders, prm.get_double("MAC threshold"));
+  }
+
   namespace
   {
     std::complex<double>

@@ -8,6 +8,7 @@
 #include <rotorfit/eigen/speed_eigenproblem.h>
 #include <rotorfit/harmonic/harmonic_assembler.h>
 #include <rotorfit/harmonic/harmonic_mode.h>
+#include <rotorfit/harmonic/harmonic_waves.h>
 #include <rotorfit/harmonic/meridian_model.h>
 #include <rotorfit/harmonic/meridian_output.h>
 #include <rotorfit/modal/mode_tracker.h>
@@ -188,21 +189,12 @@ namespace rotorfit
     EigenSolution
     solve_harmonic(const unsigned int k, const StaticState &state);
 
-    /// Turn the degenerate pair @p a, @p b (one eigenvalue) into the
-    /// backward (in @p a) and the forward (in @p b) travelling wave.
-    void
-    travelling_waves(const HarmonicAssembler::Harmonic &h, EigenPair &a, EigenPair &b) const;
-
     /// Rigid motions harmonic @p n can have at @p state: 2 per group of
     /// bodies tied by closed pairs (n = 0), 4 per group no bearing holds
     /// (n = 1), none for n >= 2 (an upper bound: the eigensolver asks for
     /// these on top of the modes wanted).
     unsigned int
     rigid_motions(const unsigned int n, const StaticState &state) const;
-
-    /// Mode @p phi of harmonic @p h turned by 90/n degrees about the axis.
-    ComplexVector
-    turned(const HarmonicAssembler::Harmonic &h, const ComplexVector &phi) const;
 
     /// At rest on isotropic supports every mode of n >= 1 is a doublet, but
     /// a single-vector Arnoldi run may return one member only (a double
@@ -212,21 +204,11 @@ namespace rotorfit
     unsigned int
     add_missing_partners(const unsigned int k, std::vector<EigenPair> &modes) const;
 
-    /// Per node and component the complex amplitudes of the forward
-    /// (C + i S) and backward (C - i S) waves of an eigenvector of @p h.
-    void
-    wave_amplitudes(const HarmonicAssembler::Harmonic &h, const ComplexVector &phi,
-                    std::vector<std::complex<double>> &forward,
-                    std::vector<std::complex<double>> &backward) const;
-
-    /// Forward share of an eigenvector of harmonic @p h.
-    double
-    forward_fraction(const HarmonicAssembler::Harmonic &h, const ComplexVector &phi) const;
-
     MPI_Comm             comm;
     Log                 &log;
     dealii::TimerOutput &timer;
     MeridianModel        meridian;
+    HarmonicWaves        waves{meridian};
     std::unique_ptr<HarmonicAssembler> assembler;
     const Bearings      *bearings   = nullptr;
     const ContactInterfaces *interfaces = nullptr;
@@ -244,8 +226,7 @@ namespace rotorfit
     bool                      prestress = true, centrifugal_prestress = true, convective = true;
     double                    tie_scale       = 1000;
     double                    rigid_threshold = 1;
-    std::vector<unsigned int> orders{1};
-    double                    mac_threshold = 0.8;
+    ModeTracker               tracker_template; ///< as parsed, before any speed
 
     // statics
     HarmonicAssembler::StaticSystem system;

@@ -96,8 +96,6 @@ namespace rotorfit
     check_doublets() const;
     Log                      &log;
     unsigned int              n_stations = 10;
-    std::vector<unsigned int> orders{1};
-    double                    mac_threshold = 0.8;
     WhirlStations             stations;
     ModeTracker               tracker;
     ModalResult               result;

@@ -2,6 +2,8 @@
 
 #include <rotorfit/modal/whirl.h>
 
+#include <deal.II/base/parameter_handler.h>
+
 #include <string>
 #include <vector>
 
@@ -39,6 +41,10 @@ namespace rotorfit
   {
   public:
     ModeTracker() = default;
+    /// From "MAC threshold" and "Excitation orders" of subsection
+    /// Eigenproblem (declared by ModalAnalysis), the one @p prm is in.
+    static ModeTracker
+    from_parameters(const dealii::ParameterHandler &prm);
     ModeTracker(const std::vector<unsigned int> &orders, const double mac_threshold)
       : orders(orders)
       , threshold(mac_threshold)
