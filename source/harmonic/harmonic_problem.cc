@@ -90,6 +90,7 @@ namespace rotorfit
                        "split into interference and centrifugal parts).");
     contact.parse_parameters(prm);
     eigensolver.parse_parameters(prm);
+    reduced_settings.parse_parameters(prm);
   }
 
   void
@@ -154,14 +155,31 @@ namespace rotorfit
         {
           matrices.resize(harmonics.size());
           // (PETSc matrices cannot be moved: made in place)
-          for (auto *p : {&petsc_m, &petsc_c, &petsc_k})
+          for (auto *p : {&petsc_m, &petsc_c, &petsc_k, &petsc_g, &petsc_k0, &petsc_k2})
             *p = std::vector<PETScWrappers::MPI::SparseMatrix>(harmonics.size());
+          law_k0 = std::vector<SparseMatrix<double>>(harmonics.size());
+          law_k2 = std::vector<SparseMatrix<double>>(harmonics.size());
+          law_number.assign(harmonics.size(), 0);
+          bearing_directions.assign(harmonics.size(), {});
+          reduced.clear();
           for (unsigned int k = 0; k < harmonics.size(); ++k)
             {
-              assembler->assemble_harmonic(harmonics[k], stations, matrices[k]);
-              copy_to_petsc(matrices[k].M, petsc_m[k], comm);
-              copy_to_petsc(matrices[k].K, petsc_c[k], comm);
-              copy_to_petsc(matrices[k].K, petsc_k[k], comm);
+              auto &h = matrices[k];
+              assembler->assemble_harmonic(harmonics[k], stations, h);
+              copy_to_petsc(h.M, petsc_m[k], comm);
+              copy_to_petsc(h.K, petsc_c[k], comm);
+              copy_to_petsc(h.K, petsc_k[k], comm);
+              copy_to_petsc(h.G, petsc_g[k], comm);
+              copy_to_petsc(h.K, petsc_k0[k], comm);
+              copy_to_petsc(h.K, petsc_k2[k], comm);
+              law_k0[k].reinit(h.pattern);
+              law_k2[k].reinit(h.pattern);
+              for (unsigned int b = 0; b < bearings->size() && h.n == 1; ++b)
+                {
+                  bearing_directions[k].push_back(h.station_x[b]);
+                  bearing_directions[k].push_back(h.station_y[b]);
+                }
+              reduced.push_back(std::make_unique<HarmonicReducedModel>(h.n, reduced_settings));
             }
         }
     }
@@ -296,48 +314,87 @@ namespace rotorfit
     prestress_law = s.shared_law();
   }
 
+  std::size_t
+  HarmonicProblem::law_matrices(const unsigned int hk, const StaticState &s)
+  {
+    const bool affine = s.decomposition().affine;
+    if (s.shared_law() != law_of_matrices || (!affine && s.rpm != law_rpm) || n_laws == 0)
+      {
+        law_of_matrices = s.shared_law();
+        law_rpm         = affine ? -1 : s.rpm;
+        ++n_laws;
+      }
+    if (law_number[hk] == n_laws)
+      return n_laws;
+    prepare_prestress(s);
+    const auto &h  = matrices[hk];
+    auto       &k0 = law_k0[hk];
+    auto       &k2 = law_k2[hk];
+    k0.copy_from(h.K);
+    k2 = 0;
+    if (prestress)
+      {
+        k0.add(1., *k_sigma_I[hk]);
+        if (affine && centrifugal_prestress)
+          k2.add(1., *k_sigma_C[hk]);
+        if (centrifugal_prestress && convective)
+          k2.add(-1., h.K_theta);
+      }
+    assembler->add_ties(h, s.contact.active, tie_penalty, k0);
+    copy_values(k0, petsc_k0[hk]);
+    copy_values(k2, petsc_k2[hk]);
+    law_number[hk] = n_laws;
+    return n_laws;
+  }
+
+  std::vector<HarmonicReducedModel::Coupling>
+  HarmonicProblem::bearing_couplings(const unsigned int hk, const double rpm) const
+  {
+    std::vector<HarmonicReducedModel::Coupling> list;
+    for (unsigned int b = 0; b < bearings->size() && matrices[hk].n == 1; ++b)
+      {
+        Bearings::Coefficients kb, cb;
+        bearings->coefficients(b, rpm, kb, cb);
+        // (row direction, column direction) -> coefficient index
+        const unsigned int index[2][2] = {{0, 2}, {3, 1}};
+        for (unsigned int p = 0; p < 2; ++p)
+          for (unsigned int q = 0; q < 2; ++q)
+            if (kb[index[p][q]] != 0 || cb[index[p][q]] != 0)
+              list.push_back({2 * b + p, 2 * b + q, kb[index[p][q]], cb[index[p][q]]});
+      }
+    return list;
+  }
+
+  HarmonicReducedModel::Operators
+  HarmonicProblem::law_operators(const unsigned int hk) const
+  {
+    const auto &h = matrices[hk];
+    return {&h.M,         &h.G,          &law_k0[hk],   &law_k2[hk], &petsc_m[hk],
+            &petsc_g[hk], &petsc_k0[hk], &petsc_k2[hk], &bearing_directions[hk]};
+  }
+
   void
   HarmonicProblem::speed_matrices(const unsigned int    hk,
                                   const StaticState    &s,
                                   SparseMatrix<double> &k,
                                   SparseMatrix<double> &c)
   {
-    const double omega  = SpeedSchedule::rpm_to_rad_per_s(s.rpm);
-    const double w      = omega * omega;
-    const bool   affine = s.decomposition().affine;
-    prepare_prestress(s);
-    const auto &h = matrices[hk];
-    k.copy_from(h.K);
-    if (prestress)
-      {
-        k.add(1., *k_sigma_I[hk]);
-        if (affine && centrifugal_prestress)
-          k.add(w, *k_sigma_C[hk]);
-        if (centrifugal_prestress && convective)
-          k.add(-w, h.K_theta);
-      }
-    assembler->add_ties(h, s.contact.active, tie_penalty, k);
-    c.copy_from(h.G);
+    const double omega = SpeedSchedule::rpm_to_rad_per_s(s.rpm);
+    law_matrices(hk, s);
+    k.copy_from(law_k0[hk]);
+    k.add(omega * omega, law_k2[hk]);
+    c.copy_from(matrices[hk].G);
     c *= omega;
-    for (unsigned int b = 0; b < bearings->size() && h.n == 1; ++b)
-      {
-        Bearings::Coefficients kb, cb;
-        bearings->coefficients(b, s.rpm, kb, cb);
-        // (row direction, column direction) -> coefficient index
-        const unsigned int index[2][2] = {{0, 2}, {3, 1}};
-        const std::vector<std::pair<unsigned int, double>> *a[2] = {&h.station_x[b],
-                                                                     &h.station_y[b]};
-        for (unsigned int p = 0; p < 2; ++p)
-          for (unsigned int q = 0; q < 2; ++q)
-            for (const auto &[I, wi] : *a[p])
-              for (const auto &[J, wj] : *a[q])
-                {
-                  if (kb[index[p][q]] != 0)
-                    k.add(I, J, kb[index[p][q]] * wi * wj);
-                  if (cb[index[p][q]] != 0)
-                    c.add(I, J, cb[index[p][q]] * wi * wj);
-                }
-      }
+    const auto &a = bearing_directions[hk];
+    for (const auto &cp : bearing_couplings(hk, s.rpm))
+      for (const auto &[I, wi] : a[cp.p])
+        for (const auto &[J, wj] : a[cp.q])
+          {
+            if (cp.k != 0)
+              k.add(I, J, cp.k * wi * wj);
+            if (cp.c != 0)
+              c.add(I, J, cp.c * wi * wj);
+          }
   }
 
   ResponseAtSpeed
@@ -435,32 +492,104 @@ namespace rotorfit
     return out;
   }
 
+  namespace
+  {
+    /// The @p n eigenvalues of @p pairs nearest @p sigma (a conjugate pair,
+    /// kept once, counts twice), as the shift-invert solve picks them,
+    /// ordered by |lambda| as it returns them.
+    void
+    keep_nearest(std::vector<EigenPair> &pairs, const unsigned int n, const double sigma)
+    {
+      std::stable_sort(pairs.begin(), pairs.end(), [&](const EigenPair &a, const EigenPair &b) {
+        return std::abs(a.lambda - sigma) < std::abs(b.lambda - sigma);
+      });
+      unsigned int count = 0, kept = 0;
+      while (kept < pairs.size() && count < n)
+        count += pairs[kept++].lambda.imag() != 0 ? 2 : 1;
+      pairs.resize(kept);
+      std::stable_sort(pairs.begin(), pairs.end(), [](const EigenPair &a, const EigenPair &b) {
+        return std::abs(a.lambda) < std::abs(b.lambda);
+      });
+    }
+  } // namespace
+
   EigenSolution
   HarmonicProblem::solve_harmonic(const unsigned int hk, const StaticState &s)
   {
     const auto &h = matrices[hk];
-    {
-      const auto           t0 = std::chrono::steady_clock::now();
-      SparseMatrix<double> k(h.pattern), c(h.pattern);
-      speed_matrices(hk, s, k, c);
-      copy_values(c, petsc_c[hk]);
-      copy_values(k, petsc_k[hk]);
-      matrix_seconds +=
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    }
     // rigid motions on top of the modes wanted: axial translation and twist
     // (n = 0) of every group of bodies the closed pairs tie together,
     // translations and tilts (n = 1) of every such group no bearing holds
     const unsigned int rigid = rigid_motions(h.n, s);
     const unsigned int wanted =
       std::min<unsigned int>(2 * (modes_per_harmonic + rigid), h.free.n_free - 2);
-    auto pairs_found = eigensolver.solve(petsc_m[hk], petsc_c[hk], petsc_k[hk], wanted, statistics);
-    unconverged_slots += statistics.unconverged_slots;
-    restarts += statistics.iterations;
-    factor_seconds += statistics.factorization_seconds;
-    arnoldi_seconds += statistics.arnoldi_seconds;
-    check_seconds += statistics.check_seconds;
-    ++eigen_solves;
+    const std::size_t law = law_matrices(hk, s);
+    // the reduced model serves the affine laws (doc/theory.md 14.6)
+    const bool use_reduced = reduced_settings.enabled() && s.decomposition().affine;
+    std::vector<EigenPair> pairs_found;
+    bool                   solved = false;
+    if (use_reduced && reduced[hk]->serves(law))
+      {
+        const auto                   t0 = std::chrono::steady_clock::now();
+        HarmonicReducedModel::Speed speed;
+        speed.rpm            = s.rpm;
+        speed.couplings      = bearing_couplings(hk, s.rpm);
+        speed.n_wanted       = wanted;
+        speed.sigma          = eigensolver.shift();
+        speed.backward_limit = eigensolver.backward_error_limit();
+        speed.rigid_hz       = rigid_threshold;
+        std::string why;
+        solved = reduced[hk]->solve(law_operators(hk), speed, pairs_found, why);
+        reduced_seconds +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (solved)
+          ++reduced_solves;
+        else
+          {
+            ++refusals;
+            log << "  harmonic " << h.n << " at " << format_number(s.rpm)
+                          << " r/min: reduced solve refused (" << why << ")\n";
+          }
+      }
+    // the full solve; with the reduced model an anchor with the margin modes
+    if (!solved || (s.rpm == 0 && h.n > 0))
+      {
+        const auto t0 = std::chrono::steady_clock::now();
+        SparseMatrix<double> k(h.pattern), c(h.pattern);
+        speed_matrices(hk, s, k, c);
+        copy_values(c, petsc_c[hk]);
+        copy_values(k, petsc_k[hk]);
+        matrix_seconds +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      }
+    if (!solved)
+      {
+        const auto         t0     = std::chrono::steady_clock::now();
+        const unsigned int margin = use_reduced ? 2 * reduced_settings.margin() : 0;
+        const unsigned int asked  = std::min<unsigned int>(wanted + margin, h.free.n_free - 2);
+        pairs_found = eigensolver.solve(petsc_m[hk], petsc_c[hk], petsc_k[hk], asked, statistics);
+        unconverged_slots += statistics.unconverged_slots;
+        restarts += statistics.iterations;
+        factor_seconds += statistics.factorization_seconds;
+        arnoldi_seconds += statistics.arnoldi_seconds;
+        check_seconds += statistics.check_seconds;
+        ++eigen_solves;
+        if (use_reduced)
+          {
+            // every eigenvalue within the farthest one found was found
+            double radius = 0;
+            for (const auto &p : pairs_found)
+              radius = std::max(radius, std::abs(p.lambda - eigensolver.shift()));
+            if (statistics.unconverged_slots > 0)
+              radius = 0;
+            reduced[hk]->add_anchor(law_operators(hk), law, s.rpm, pairs_found, radius,
+                                    eigensolver.linear_solver());
+            ++anchors;
+            keep_nearest(pairs_found, wanted, eigensolver.shift());
+          }
+        anchor_seconds +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      }
 
     EigenSolution solution;
     solution.rpm                = s.rpm;
@@ -542,6 +671,8 @@ namespace rotorfit
       {
         const unsigned int n        = matrices[hk].n;
         EigenSolution      solution = solve_harmonic(hk, s);
+        for (const auto &p : solution.elastic)
+          sweep_worst_estimate = std::max(sweep_worst_estimate, p.error_estimate);
         crossings.rigid.insert(crossings.rigid.end(), solution.rigid.begin(), solution.rigid.end());
         ModalResult        r;
         r.rpm   = s.rpm;
@@ -766,6 +897,22 @@ namespace rotorfit
         << " s Arnoldi (back-substitutions included), " << check_seconds
         << " s backward errors, " << matrix_seconds << " s the speeds' matrices; " << restarts << " restarts, " << unconverged_slots
         << " slots unconverged\n" << std::setprecision(6);
+    summary.add("eigen.reduced_solves", reduced_solves);
+    if (reduced_settings.enabled())
+      {
+        log << "Reduced model: " << reduced_solves << " reduced solves ("
+            << std::setprecision(3) << reduced_seconds << " s), " << anchors
+            << " anchors (full solves with the margin, their bases and Gram matrices: "
+            << anchor_seconds << " s), " << refusals << " refused\n"
+            << std::setprecision(6);
+        double worst = 0;
+        for (const auto &r : reduced)
+          worst = std::max(worst, r->worst_estimate);
+        summary.add("eigen.anchors", anchors);
+        summary.add("eigen.reduced_refused", refusals);
+        summary.add("eigen.reduced_worst_error_estimate", worst, 3);
+        summary.add("eigen.sweep_worst_error_estimate", sweep_worst_estimate, 3);
+      }
     summary.add("eigen.worst_backward_error", worst_backward_error, 12);
     if (response)
       summary.add("response.worst_backward_error", worst_response_error, 3);

@@ -8,6 +8,7 @@
 #include <rotorfit/eigen/speed_eigenproblem.h>
 #include <rotorfit/harmonic/harmonic_assembler.h>
 #include <rotorfit/harmonic/harmonic_mode.h>
+#include <rotorfit/harmonic/harmonic_reduced_model.h>
 #include <rotorfit/harmonic/harmonic_waves.h>
 #include <rotorfit/harmonic/meridian_model.h>
 #include <rotorfit/harmonic/meridian_output.h>
@@ -169,6 +170,21 @@ namespace rotorfit
     void
     prepare_prestress(const StaticState &state);
 
+    /// K_0 and K_2 of harmonic @p k on @p state's law (K_t = K_0 +
+    /// Omega^2 K_2 + K_b): made again where the law changed; returns the
+    /// law's number (a new law, a new number).
+    std::size_t
+    law_matrices(const unsigned int k, const StaticState &state);
+
+    /// The bearings' springs and dampers of harmonic @p k at @p rpm on
+    /// its station directions (bearing_directions).
+    std::vector<HarmonicReducedModel::Coupling>
+    bearing_couplings(const unsigned int k, const double rpm) const;
+
+    /// Harmonic @p k's matrices on its current law, for the reduced model.
+    HarmonicReducedModel::Operators
+    law_operators(const unsigned int k) const;
+
     /// K_t and C = Omega G + C_b of harmonic @p k (index into the list) at
     /// @p state.rpm on @p state's law, on the harmonic's pattern.
     void
@@ -250,6 +266,21 @@ namespace rotorfit
     std::vector<std::unique_ptr<dealii::SparseMatrix<double>>> k_sigma_I, k_sigma_C;
     unsigned int                                        prestress_assemblies = 0;
     std::vector<double>                      tie_penalty; ///< per ring pair
+    /// per harmonic: K_0, K_2 of the current law (and their PETSc copies,
+    /// with G's), the law's number, the bearings' station directions
+    std::vector<dealii::SparseMatrix<double>>             law_k0, law_k2;
+    std::vector<dealii::PETScWrappers::MPI::SparseMatrix> petsc_g, petsc_k0, petsc_k2;
+    std::vector<std::size_t>                              law_number;
+    std::vector<std::vector<HarmonicReducedModel::Direction>> bearing_directions;
+    std::shared_ptr<const ContactSolver::Decomposition>   law_of_matrices;
+    double                                                law_rpm = -1;
+    std::size_t                                           n_laws  = 0;
+    /// the reduced model of each harmonic (Eigenproblem/Reduced model)
+    ReducedBasis                                       reduced_settings;
+    std::vector<std::unique_ptr<HarmonicReducedModel>> reduced;
+    unsigned int reduced_solves = 0, anchors = 0, refusals = 0;
+    double       reduced_seconds = 0, anchor_seconds = 0;
+    double       sweep_worst_estimate = 0; ///< of the sweep's speeds (root solves left out)
     DampedEigensolver                        eigensolver;
     // the lines: a tracker and onset finder per harmonic; (harmonic, its
     // tracker's id) -> the line's number over all harmonics
