@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <rotorfit/harmonic/harmonic_assembler.h>
 #include <rotorfit/linear_algebra/skew_part.h>
 
@@ -395,17 +396,26 @@ namespace rotorfit
   }
 
   void
-  copy_to_petsc(const SparseMatrix<double>        &a,
-                PETScWrappers::MPI::SparseMatrix  &p,
-                const MPI_Comm                     comm)
+  copy_to_petsc(const SparseMatrix<double>                              &a,
+                const std::vector<PETScWrappers::MPI::SparseMatrix *> &targets,
+                const MPI_Comm                                         comm)
   {
     const IndexSet         all = complete_index_set(a.m());
     DynamicSparsityPattern dsp(a.m());
+    std::vector<types::global_dof_index> cols;
     for (unsigned int i = 0; i < a.m(); ++i)
-      for (auto it = a.begin(i); it != a.end(i); ++it)
-        dsp.add(i, it->column());
-    p.reinit(all, all, dsp, comm);
-    copy_values(a, p);
+      {
+        cols.clear();
+        for (auto it = a.begin(i); it != a.end(i); ++it)
+          cols.push_back(it->column());
+        std::sort(cols.begin(), cols.end());
+        dsp.add_entries(i, cols.begin(), cols.end(), true);
+      }
+    for (auto *p : targets)
+      {
+        p->reinit(all, all, dsp, comm);
+        copy_values(a, *p);
+      }
   }
 
   void

@@ -91,6 +91,14 @@ namespace rotorfit
     contact.parse_parameters(prm);
     eigensolver.parse_parameters(prm);
     reduced_settings.parse_parameters(prm);
+    // one solver per harmonic: each keeps its latest anchor's factorisation
+    // (the response's enrichments, doc/theory.md 14.6)
+    solvers.clear();
+    for (unsigned int k = 0; k < harmonics.size(); ++k)
+      {
+        solvers.push_back(std::make_unique<DampedEigensolver>());
+        solvers.back()->parse_parameters(prm);
+      }
   }
 
   void
@@ -166,12 +174,13 @@ namespace rotorfit
             {
               auto &h = matrices[k];
               assembler->assemble_harmonic(harmonics[k], stations, h);
-              copy_to_petsc(h.M, petsc_m[k], comm);
-              copy_to_petsc(h.K, petsc_c[k], comm);
-              copy_to_petsc(h.K, petsc_k[k], comm);
-              copy_to_petsc(h.G, petsc_g[k], comm);
-              copy_to_petsc(h.K, petsc_k0[k], comm);
-              copy_to_petsc(h.K, petsc_k2[k], comm);
+              // (M, K, G share the harmonic's pattern)
+              copy_to_petsc(h.K,
+                            {&petsc_m[k], &petsc_c[k], &petsc_k[k], &petsc_g[k], &petsc_k0[k],
+                             &petsc_k2[k]},
+                            comm);
+              copy_values(h.M, petsc_m[k]);
+              copy_values(h.G, petsc_g[k]);
               law_k0[k].reinit(h.pattern);
               law_k2[k].reinit(h.pattern);
               for (unsigned int b = 0; b < bearings->size() && h.n == 1; ++b)
@@ -397,6 +406,26 @@ namespace rotorfit
           }
   }
 
+  std::vector<std::complex<double>>
+  HarmonicProblem::unbalance_load(const unsigned int hk) const
+  {
+    // F of every unbalance at Omega = 1: F_x = m e e^{i phi} a, F_y = -i F_x
+    // (doc/theory.md 13) on the station's weights; stations after the bearings
+    const auto                       &h          = matrices[hk];
+    const std::size_t                 n_bearings = bearings->size();
+    const auto                       &list       = response->unbalance_list();
+    std::vector<std::complex<double>> f(h.free.n_free);
+    for (unsigned int j = 0; j < list.size(); ++j)
+      {
+        const std::complex<double> fx = list[j].force_x(), fy = std::complex<double>(0, -1) * fx;
+        for (const auto &[I, w] : h.station_x[n_bearings + j])
+          f[I] += w * fx;
+        for (const auto &[I, w] : h.station_y[n_bearings + j])
+          f[I] += w * fy;
+      }
+    return f;
+  }
+
   ResponseAtSpeed
   HarmonicProblem::solve_response(const unsigned int hk, const StaticState &s)
   {
@@ -407,19 +436,49 @@ namespace rotorfit
     out.rpm        = s.rpm;
     out.fit_state  = s.fit_state;
     out.basis_size = n; // (solved directly: the harmonic's DoFs)
-    // F Omega^2 of every unbalance: F_x = m e e^{i phi} a, F_y = -i F_x
-    // (doc/theory.md 13) on the station's weights; stations after the bearings
     const std::size_t n_bearings = bearings->size();
     const auto       &list       = response->unbalance_list();
     Vector<std::complex<double>> f(n), u(n), r(n);
-    for (unsigned int j = 0; j < list.size(); ++j)
+    {
+      const auto f1 = unbalance_load(hk);
+      for (unsigned int i = 0; i < n; ++i)
+        f[i] = f1[i] * (omega * omega);
+    }
+    // the probes: the weighted means of the stations after the unbalances'
+    const auto read_probes = [&](const auto &U) {
+      const auto &probes = response->probe_list();
+      for (unsigned int j = 0; j < probes.size(); ++j)
+        {
+          ProbeResponse p;
+          p.probe        = probes[j].name;
+          const auto idx = n_bearings + list.size() + j;
+          for (const auto &[I, w] : h.station_x[idx])
+            p.x += w * U[I];
+          for (const auto &[I, w] : h.station_y[idx])
+            p.y += w * U[I];
+          out.probes.push_back(p);
+        }
+    };
+    // on harmonic 1's reduced basis where it serves this law (doc/theory.md 14.6)
+    if (reduced_settings.enabled() && s.decomposition().affine &&
+        reduced[hk]->serves(law_matrices(hk, s)))
       {
-        const std::complex<double> fx = list[j].force_x() * omega * omega,
-                                   fy = std::complex<double>(0, -1) * fx;
-        for (const auto &[I, w] : h.station_x[n_bearings + j])
-          f[I] += w * fx;
-        for (const auto &[I, w] : h.station_y[n_bearings + j])
-          f[I] += w * fy;
+        HarmonicReducedModel::Speed speed;
+        speed.rpm       = s.rpm;
+        speed.couplings = bearing_couplings(hk, s.rpm);
+        std::vector<std::complex<double>> F(f.begin(), f.end()), U;
+        if (reduced[hk]->respond(law_operators(hk), speed, F, response->residual_tolerance(),
+                                 response->maximum_enrichments(), solvers[hk]->linear_solver(), U,
+                                 out.residual, out.basis_size))
+          {
+            out.converged = true;
+            response->count_reduced_speed();
+            read_probes(U);
+            return out;
+          }
+        log << "  response at " << format_number(s.rpm) << " r/min: residual " << out.residual
+            << " on the reduced basis (" << out.basis_size << " columns), solved directly\n";
+        out.basis_size = n;
       }
     // Z = K_t - Omega^2 M + i Omega C, complex on the harmonic's pattern (K,
     // M, C share it, so entry by entry): half the unknowns of the real 2 x 2
@@ -476,19 +535,7 @@ namespace rotorfit
     out.converged = out.residual <= response->residual_tolerance() || backward_error <= 1e-12;
     if (!(backward_error <= worst_response_error))
       worst_response_error = backward_error;
-    // the probes: the weighted means of the stations after the unbalances'
-    const auto &probes = response->probe_list();
-    for (unsigned int j = 0; j < probes.size(); ++j)
-      {
-        ProbeResponse p;
-        p.probe        = probes[j].name;
-        const auto idx = n_bearings + list.size() + j;
-        for (const auto &[I, w] : h.station_x[idx])
-          p.x += w * u[I];
-        for (const auto &[I, w] : h.station_y[idx])
-          p.y += w * u[I];
-        out.probes.push_back(p);
-      }
+    read_probes(u);
     return out;
   }
 
@@ -567,7 +614,7 @@ namespace rotorfit
         const auto         t0     = std::chrono::steady_clock::now();
         const unsigned int margin = use_reduced ? 2 * reduced_settings.margin() : 0;
         const unsigned int asked  = std::min<unsigned int>(wanted + margin, h.free.n_free - 2);
-        pairs_found = eigensolver.solve(petsc_m[hk], petsc_c[hk], petsc_k[hk], asked, statistics);
+        pairs_found = solvers[hk]->solve(petsc_m[hk], petsc_c[hk], petsc_k[hk], asked, statistics);
         unconverged_slots += statistics.unconverged_slots;
         restarts += statistics.iterations;
         factor_seconds += statistics.factorization_seconds;
@@ -582,8 +629,16 @@ namespace rotorfit
               radius = std::max(radius, std::abs(p.lambda - eigensolver.shift()));
             if (statistics.unconverged_slots > 0)
               radius = 0;
+            std::vector<Vector<double>> loads;
+            if (response && h.n == 1)
+              {
+                const auto f = unbalance_load(hk);
+                loads.assign(2, Vector<double>(f.size()));
+                for (unsigned int i = 0; i < f.size(); ++i)
+                  loads[0][i] = f[i].real(), loads[1][i] = f[i].imag();
+              }
             reduced[hk]->add_anchor(law_operators(hk), law, s.rpm, pairs_found, radius,
-                                    eigensolver.linear_solver());
+                                    solvers[hk]->linear_solver(), loads);
             ++anchors;
             keep_nearest(pairs_found, wanted, eigensolver.shift());
           }

@@ -1,8 +1,10 @@
 #include <rotorfit/harmonic/harmonic_reduced_model.h>
+#include <rotorfit/linear_algebra/blas.h>
 #include <rotorfit/linear_algebra/replicated_blocks.h>
 #include <rotorfit/statics/speed_schedule.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
 #include <map>
@@ -47,7 +49,8 @@ namespace rotorfit
                                    const double                  rpm,
                                    const std::vector<EigenPair> &pairs,
                                    const double                  radius,
-                                   const DirectSolver           &factors)
+                                   const DirectSolver           &factors,
+                                   const std::vector<Vector<double>> &loads)
   {
     // the eigenvectors' real and imaginary parts
     std::vector<Vector<double>> x;
@@ -73,6 +76,10 @@ namespace rotorfit
           v[i] += w;
         rhs.push_back(std::move(v));
       }
+    // the static correction of the unbalance response (doc/theory.md 13.2)
+    for (const auto &f : loads)
+      if (f.linfty_norm() > 0)
+        rhs.push_back(f);
     std::vector<Vector<double>> directions;
     if (!rhs.empty())
       replicated_solve(factors, *op.pM, pointers(rhs), directions);
@@ -325,5 +332,201 @@ namespace rotorfit
       return std::abs(a.lambda) < std::abs(b.lambda);
     });
     return true;
+  }
+} // namespace rotorfit
+
+namespace rotorfit
+{
+  bool
+  HarmonicReducedModel::respond(const Operators            &op,
+                                const Speed                &speed,
+                                const std::vector<complex> &F,
+                                const double                tolerance,
+                                const unsigned int          max_enrichments,
+                                const DirectSolver         &factors,
+                                std::vector<complex>       &U,
+                                double                     &residual,
+                                unsigned int               &basis_size) const
+  {
+    const double      omega = SpeedSchedule::rpm_to_rad_per_s(speed.rpm), w = omega * omega;
+    const std::size_t rows  = op.pM->m();
+    const unsigned int m    = basis.size();
+    const auto        &st   = *op.stations;
+    Vector<double>     f_re(rows), f_im(rows);
+    for (std::size_t i = 0; i < rows; ++i)
+      f_re[i] = F[i].real(), f_im[i] = F[i].imag();
+    const double f_norm = std::sqrt(f_re.norm_sqr() + f_im.norm_sqr());
+    U.assign(rows, 0.);
+    residual   = 0;
+    basis_size = m;
+    if (!(f_norm > 0))
+      return true;
+    // Z = A + i B on W = [V E]: A = K_0 + w K_2 + K_b - w M, B = w G + Omega C_b
+    const std::array<const RowBlock *, 4> kept{{&mv, &gv, &k0v, &k2v}};
+    const std::array<const dealii::PETScWrappers::MPI::SparseMatrix *, 4> sparse{
+      {op.pM, op.pG, op.pK0, op.pK2}};
+    const std::array<double, 4> a_share{{-w, 0., 1., w}}, b_share{{0., w, 0., 0.}};
+    std::vector<Vector<double>>                E;  // enrichments, M-orthonormal to V and each other
+    std::vector<std::array<Vector<double>, 4>> AE; // their products with M, G, K_0, K_2
+    for (unsigned int round = 0;; ++round)
+      {
+        const unsigned int ne = E.size(), n = m + ne;
+        FullMatrix<double> A(n, n), B(n, n);
+        for (unsigned int i = 0; i < m; ++i)
+          for (unsigned int j = 0; j < m; ++j)
+            {
+              A(i, j) = K0r(i, j) + w * K2r(i, j) - w * Mr(i, j);
+              B(i, j) = w * Gr(i, j);
+            }
+        for (unsigned int e = 0; e < ne; ++e)
+          for (unsigned int t = 0; t < 4; ++t)
+            {
+              // V^T A e, e^T A V (from the kept A V: no symmetry assumed), E^T A e
+              const auto          column = basis.coefficients(AE[e][t]);
+              std::vector<double> row;
+              if (!kept[t]->empty())
+                basis.apply_transpose(*kept[t], std::vector<double>(E[e].begin(), E[e].end()), 1.,
+                                      row);
+              for (unsigned int i = 0; i < m; ++i)
+                {
+                  A(i, m + e) += a_share[t] * column[i];
+                  B(i, m + e) += b_share[t] * column[i];
+                  const double r_i = row.empty() ? 0. : row[i];
+                  A(m + e, i) += a_share[t] * r_i;
+                  B(m + e, i) += b_share[t] * r_i;
+                }
+              for (unsigned int i = 0; i < ne; ++i)
+                {
+                  const double v = E[i] * AE[e][t];
+                  A(m + i, m + e) += a_share[t] * v;
+                  B(m + i, m + e) += b_share[t] * v;
+                }
+            }
+        // the bearings on every column: a_p^T W
+        std::vector<std::vector<double>> sw(st.size(), std::vector<double>(n, 0.));
+        for (unsigned int p = 0; p < st.size(); ++p)
+          {
+            std::copy(station_r[p].begin(), station_r[p].end(), sw[p].begin());
+            for (unsigned int e = 0; e < ne; ++e)
+              for (const auto &[I, a] : st[p])
+                sw[p][m + e] += a * E[e][I];
+          }
+        for (const auto &c : speed.couplings)
+          for (unsigned int i = 0; i < n; ++i)
+            for (unsigned int j = 0; j < n; ++j)
+              {
+                const double s = sw[c.p][i] * sw[c.q][j];
+                A(i, j) += c.k * s;
+                B(i, j) += omega * c.c * s;
+              }
+        // W^T F, and the real block system [A -B; B A] (y_re, y_im) = (b_re, b_im)
+        const auto b_re = basis.coefficients(f_re), b_im = basis.coefficients(f_im);
+        const int  n2   = 2 * n;
+        std::vector<double> S(std::size_t(n2) * n2), x(n2);
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            for (unsigned int j = 0; j < n; ++j)
+              {
+                S[i + std::size_t(j) * n2]           = A(i, j);
+                S[i + std::size_t(n + j) * n2]       = -B(i, j);
+                S[n + i + std::size_t(j) * n2]       = B(i, j);
+                S[n + i + std::size_t(n + j) * n2]   = A(i, j);
+              }
+            x[i]     = i < m ? b_re[i] : E[i - m] * f_re;
+            x[n + i] = i < m ? b_im[i] : E[i - m] * f_im;
+          }
+        std::vector<int> pivots(n2);
+        int              info = 0, one = 1;
+        dgetrf_(&n2, &n2, S.data(), &n2, pivots.data(), &info);
+        if (info != 0)
+          return false;
+        dgetrs_("N", &n2, &one, S.data(), &n2, pivots.data(), x.data(), &n2, &info);
+        if (info != 0)
+          return false;
+        std::vector<complex> y(n);
+        for (unsigned int i = 0; i < n; ++i)
+          y[i] = complex(x[i], x[n + i]);
+        // r = F - Z W y from the kept products (the projection's own)
+        const std::vector<complex> yv(y.begin(), y.begin() + m);
+        ComplexVector              r{f_re, f_im}, u;
+        const std::array<complex, 4> share{{-w, complex(0, w), 1., w}};
+        for (unsigned int t = 0; t < 4; ++t)
+          if (!kept[t]->empty())
+            {
+              std::vector<complex> z(yv);
+              for (auto &v : z)
+                v *= share[t];
+              basis.multiply(kept[t], {z}, -1., {&r});
+            }
+        basis.multiply(nullptr, {yv}, 1., {&u});
+        for (unsigned int e = 0; e < ne; ++e)
+          {
+            const complex ye = y[m + e];
+            for (unsigned int t = 0; t < 4; ++t)
+              {
+                const complex c = share[t] * ye;
+                r.re.add(-c.real(), AE[e][t]);
+                r.im.add(-c.imag(), AE[e][t]);
+              }
+            u.re.add(ye.real(), E[e]);
+            u.im.add(ye.imag(), E[e]);
+          }
+        for (const auto &c : speed.couplings)
+          {
+            complex aq = 0;
+            for (unsigned int i = 0; i < n; ++i)
+              aq += sw[c.q][i] * y[i];
+            const complex v = complex(c.k, omega * c.c) * aq;
+            for (const auto &[I, a] : st[c.p])
+              {
+                r.re[I] -= a * v.real();
+                r.im[I] -= a * v.imag();
+              }
+          }
+        residual   = std::sqrt(r.re.norm_sqr() + r.im.norm_sqr()) / f_norm;
+        basis_size = n;
+        if (residual <= tolerance)
+          {
+            for (std::size_t i = 0; i < rows; ++i)
+              U[i] = complex(u.re[i], u.im[i]);
+            return true;
+          }
+        if (!std::isfinite(residual) || round == max_enrichments)
+          return false;
+        // enrich by Q(sigma)^-1 of the residual's parts, M-orthonormal to W
+        std::vector<Vector<double>> x_new;
+        replicated_solve(factors, *op.pM, std::vector<const Vector<double> *>{&r.re, &r.im}, x_new);
+        const auto product = [](const dealii::PETScWrappers::MPI::SparseMatrix &a,
+                                const Vector<double>                           &v) {
+          std::vector<Vector<double>> out;
+          replicated_mmult(a, std::vector<const Vector<double> *>{&v}, out);
+          return std::move(out[0]);
+        };
+        unsigned int added = 0;
+        for (auto &v : x_new)
+          {
+            const double size = v.l2_norm();
+            for (unsigned int pass = 0; pass < 2; ++pass)
+              {
+                const Vector<double> mvv = product(*op.pM, v);
+                basis.subtract_projection(v, mvv);
+                for (const auto &e : E)
+                  v.add(-(e * mvv), e);
+              }
+            const Vector<double> mvv = product(*op.pM, v);
+            const double norm = std::sqrt(std::max(0., v * mvv));
+            if (!(norm > 1e-10 * size) || !std::isfinite(norm))
+              continue;
+            v /= norm;
+            std::array<Vector<double>, 4> products;
+            for (unsigned int t = 0; t < 4; ++t)
+              products[t] = product(*sparse[t], v);
+            E.push_back(std::move(v));
+            AE.push_back(std::move(products));
+            ++added;
+          }
+        if (added == 0)
+          return false;
+      }
   }
 } // namespace rotorfit

@@ -80,9 +80,10 @@ namespace rotorfit
   void
   copy_values(const dealii::SparseMatrix<double> &a, dealii::PETScWrappers::MPI::SparseMatrix &p);
 
-  /// Copy a serial matrix into a new PETSc matrix of its pattern (one rank).
+  /// Copy a serial matrix into new PETSc matrices of its pattern (one
+  /// rank; the pattern is made once for all of @p targets).
   void
-  copy_to_petsc(const dealii::SparseMatrix<double>        &a,
-                dealii::PETScWrappers::MPI::SparseMatrix  &p,
-                const MPI_Comm                             comm);
+  copy_to_petsc(const dealii::SparseMatrix<double>                           &a,
+                const std::vector<dealii::PETScWrappers::MPI::SparseMatrix *> &targets,
+                const MPI_Comm                                                comm);
 } // namespace rotorfit

@@ -193,6 +193,11 @@ namespace rotorfit
                    dealii::SparseMatrix<double> &stiffness,
                    dealii::SparseMatrix<double> &damping);
 
+    /// The unbalances' force on harmonic @p k (harmonic 1) at Omega = 1
+    /// (the speed's is Omega^2 times it), complex, free numbering.
+    std::vector<std::complex<double>>
+    unbalance_load(const unsigned int k) const;
+
     /// The unbalance response of harmonic @p k (harmonic 1) at @p state:
     /// (K_t - Omega^2 M + i Omega C) U = F Omega^2, solved directly (UMFPACK's
     /// complex LU), read at the probes.
@@ -281,7 +286,8 @@ namespace rotorfit
     unsigned int reduced_solves = 0, anchors = 0, refusals = 0;
     double       reduced_seconds = 0, anchor_seconds = 0;
     double       sweep_worst_estimate = 0; ///< of the sweep's speeds (root solves left out)
-    DampedEigensolver                        eigensolver;
+    DampedEigensolver                        eigensolver; ///< the settings
+    std::vector<std::unique_ptr<DampedEigensolver>> solvers; ///< per harmonic
     // the lines: a tracker and onset finder per harmonic; (harmonic, its
     // tracker's id) -> the line's number over all harmonics
     std::vector<ModeTracker>                      trackers;

@@ -9,6 +9,7 @@
 #include <deal.II/lac/petsc_sparse_matrix.h>
 #include <deal.II/lac/sparse_matrix.h>
 
+#include <complex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -72,12 +73,13 @@ namespace rotorfit
      * anchors' worth.
      */
     void
-    add_anchor(const Operators              &op,
-               const std::size_t             law,
-               const double                  rpm,
-               const std::vector<EigenPair> &pairs,
-               const double                  radius,
-               const DirectSolver           &factors);
+    add_anchor(const Operators                   &op,
+               const std::size_t                  law,
+               const double                       rpm,
+               const std::vector<EigenPair>      &pairs,
+               const double                       radius,
+               const DirectSolver                &factors,
+               const std::vector<dealii::Vector<double>> &loads = {});
 
     /// What solve() is told of the speed.
     struct Speed
@@ -93,6 +95,26 @@ namespace rotorfit
     /// fails (nothing returned then).
     bool
     solve(const Operators &op, const Speed &speed, std::vector<EigenPair> &pairs, std::string &why);
+
+    /**
+     * The steady response Z(Omega) U = F, Z = K_t - Omega^2 M + i Omega C,
+     * by Galerkin on the basis (whose anchors added Q(sigma)^-1 of the
+     * loads' shape) and up to @p max_enrichments enrichments by
+     * Q(sigma)^-1 of the residual's real and imaginary parts, with the
+     * latest anchor's @p factors (doc/theory.md 14.6). The residual
+     * ||F - Z U|| / ||F|| comes from the same kept products as the
+     * projection. Returns false where it stays above @p tolerance.
+     */
+    bool
+    respond(const Operators                           &op,
+            const Speed                               &speed,
+            const std::vector<std::complex<double>>   &F,
+            const double                               tolerance,
+            const unsigned int                         max_enrichments,
+            const DirectSolver                        &factors,
+            std::vector<std::complex<double>>         &U,
+            double                                    &residual,
+            unsigned int                              &basis_size) const;
 
     unsigned int
     size() const

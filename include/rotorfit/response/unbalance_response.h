@@ -186,6 +186,21 @@ namespace rotorfit
       return tolerance;
     }
 
+    /// Unbalance response/Maximum enrichments.
+    unsigned int
+    maximum_enrichments() const
+    {
+      return max_enrichment;
+    }
+
+    /// A speed solved elsewhere (the axisymmetric model) on a reduced
+    /// basis: counted in response.reduced_speeds.
+    void
+    count_reduced_speed()
+    {
+      ++reduced_speeds;
+    }
+
     /// Record @p out, a speed's response solved elsewhere (the axisymmetric
     /// model) or by solve(): not converged if its residual is not finite,
     /// flagged and warned about (with @p remedy) if not converged; kept for
