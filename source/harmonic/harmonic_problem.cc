@@ -168,6 +168,7 @@ namespace rotorfit
           law_k0 = std::vector<SparseMatrix<double>>(harmonics.size());
           law_k2 = std::vector<SparseMatrix<double>>(harmonics.size());
           law_number.assign(harmonics.size(), 0);
+          previous_law.assign(harmonics.size(), 0);
           bearing_directions.assign(harmonics.size(), {});
           reduced.clear();
           for (unsigned int k = 0; k < harmonics.size(); ++k)
@@ -598,6 +599,11 @@ namespace rotorfit
                           << " r/min: reduced solve refused (" << why << ")\n";
           }
       }
+    // a law of a fit opening ring by ring rarely lasts a second speed: its
+    // full solve builds no basis (no margin, directions, Gram matrix); the
+    // law's second solve (a root solve, or a speed the law lasted to) does
+    const bool transient = s.fit_state == "partial" && law != previous_law[hk];
+    previous_law[hk]     = law;
     // the full solve; with the reduced model an anchor with the margin modes
     if (!solved || (s.rpm == 0 && h.n > 0))
       {
@@ -612,7 +618,8 @@ namespace rotorfit
     if (!solved)
       {
         const auto         t0     = std::chrono::steady_clock::now();
-        const unsigned int margin = use_reduced ? 2 * reduced_settings.margin() : 0;
+        const bool         anchor = use_reduced && !transient;
+        const unsigned int margin = anchor ? 2 * reduced_settings.margin() : 0;
         const unsigned int asked  = std::min<unsigned int>(wanted + margin, h.free.n_free - 2);
         pairs_found = solvers[hk]->solve(petsc_m[hk], petsc_c[hk], petsc_k[hk], asked, statistics);
         unconverged_slots += statistics.unconverged_slots;
@@ -621,7 +628,7 @@ namespace rotorfit
         arnoldi_seconds += statistics.arnoldi_seconds;
         check_seconds += statistics.check_seconds;
         ++eigen_solves;
-        if (use_reduced)
+        if (anchor)
           {
             // every eigenvalue within the farthest one found was found
             double radius = 0;
@@ -642,6 +649,8 @@ namespace rotorfit
             ++anchors;
             keep_nearest(pairs_found, wanted, eigensolver.shift());
           }
+        else if (use_reduced)
+          ++transient_solves;
         anchor_seconds +=
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       }
@@ -957,13 +966,15 @@ namespace rotorfit
       {
         log << "Reduced model: " << reduced_solves << " reduced solves ("
             << std::setprecision(3) << reduced_seconds << " s), " << anchors
-            << " anchors (full solves with the margin, their bases and Gram matrices: "
-            << anchor_seconds << " s), " << refusals << " refused\n"
+            << " anchors and " << transient_solves
+            << " full solves on a law of a fit opening ring by ring (" << anchor_seconds
+            << " s with the anchors' bases and Gram matrices), " << refusals << " refused\n"
             << std::setprecision(6);
         double worst = 0;
         for (const auto &r : reduced)
           worst = std::max(worst, r->worst_estimate);
         summary.add("eigen.anchors", anchors);
+        summary.add("eigen.full_solves_without_basis", transient_solves);
         summary.add("eigen.reduced_refused", refusals);
         summary.add("eigen.reduced_worst_error_estimate", worst, 3);
         summary.add("eigen.sweep_worst_error_estimate", sweep_worst_estimate, 3);

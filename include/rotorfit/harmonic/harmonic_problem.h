@@ -276,6 +276,7 @@ namespace rotorfit
     std::vector<dealii::SparseMatrix<double>>             law_k0, law_k2;
     std::vector<dealii::PETScWrappers::MPI::SparseMatrix> petsc_g, petsc_k0, petsc_k2;
     std::vector<std::size_t>                              law_number;
+    std::vector<std::size_t> previous_law; ///< per harmonic: the law of its previous solve
     std::vector<std::vector<HarmonicReducedModel::Direction>> bearing_directions;
     std::shared_ptr<const ContactSolver::Decomposition>   law_of_matrices;
     double                                                law_rpm = -1;
@@ -283,7 +284,7 @@ namespace rotorfit
     /// the reduced model of each harmonic (Eigenproblem/Reduced model)
     ReducedBasis                                       reduced_settings;
     std::vector<std::unique_ptr<HarmonicReducedModel>> reduced;
-    unsigned int reduced_solves = 0, anchors = 0, refusals = 0;
+    unsigned int reduced_solves = 0, anchors = 0, refusals = 0, transient_solves = 0;
     double       reduced_seconds = 0, anchor_seconds = 0;
     double       sweep_worst_estimate = 0; ///< of the sweep's speeds (root solves left out)
     DampedEigensolver                        eigensolver; ///< the settings
