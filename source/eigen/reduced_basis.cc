@@ -22,7 +22,9 @@ namespace rotorfit
                       "true",
                       Patterns::Bool(),
                       "Solve speeds on a reduced model built from full solves at "
-                      "anchor speeds (doc/theory.md 8.6); every reduced mode is "
+                      "anchor speeds (doc/theory.md 8.6; on the axisymmetric model "
+                      "one per harmonic, with the unbalance response on harmonic "
+                      "1's basis, 14.6); every reduced mode is "
                       "checked on the full matrices and a speed that fails the "
                       "check is solved in full. false: the full solve at every "
                       "speed.");
@@ -63,7 +65,8 @@ namespace rotorfit
                       "on that basis with every check of a reduced speed, and in full "
                       "(damped) where they fail. damped: the full damped solve (LU of "
                       "Q(sigma), Arnoldi) at every anchor. Cross-coupled bearings "
-                      "(k_xy != k_yx) always take the damped one.");
+                      "(k_xy != k_yx) always take the damped one, and so does the "
+                      "axisymmetric model (the entry is not read there).");
     prm.declare_entry("Reduced anchor tie updates",
                       "256",
                       Patterns::Integer(0),
