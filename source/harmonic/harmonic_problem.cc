@@ -596,7 +596,7 @@ namespace rotorfit
           {
             ++refusals;
             log << "  harmonic " << h.n << " at " << format_number(s.rpm)
-                          << " r/min: reduced solve refused (" << why << ")\n";
+                << " r/min: reduced solve refused (" << why << "); solved in full\n";
           }
       }
     // a law of a fit opening ring by ring rarely lasts a second speed: its
@@ -956,19 +956,23 @@ namespace rotorfit
     // ARPACK slots left unconverged are dropped, never reported as modes
     summary.add("eigen.unconverged_slots", unconverged_slots);
     summary.add("eigen.arnoldi_restarts", restarts);
-    log << "Eigenproblem: " << eigen_solves << " solves (harmonics x speeds), "
+    log << "Eigenproblem: " << eigen_solves << " full solves (of harmonics x speeds and root solves), "
         << std::setprecision(3) << factor_seconds << " s factorising, " << arnoldi_seconds
         << " s Arnoldi (back-substitutions included), " << check_seconds
         << " s backward errors, " << matrix_seconds << " s the speeds' matrices; " << restarts << " restarts, " << unconverged_slots
         << " slots unconverged\n" << std::setprecision(6);
     summary.add("eigen.reduced_solves", reduced_solves);
-    if (reduced_settings.enabled())
+    if (reduced_settings.enabled() && spin_softening)
+      log << "Reduced model: not used (with spin softening the static law is not affine in "
+             "Omega^2: every solve full)\n";
+    else if (reduced_settings.enabled())
       {
-        log << "Reduced model: " << reduced_solves << " reduced solves ("
-            << std::setprecision(3) << reduced_seconds << " s), " << anchors
-            << " anchors and " << transient_solves
-            << " full solves on a law of a fit opening ring by ring (" << anchor_seconds
-            << " s with the anchors' bases and Gram matrices), " << refusals << " refused\n"
+        log << "Reduced model: " << reduced_solves << " reduced solves (" << std::setprecision(3)
+            << reduced_seconds << " s); full solves: " << anchors
+            << " anchors (with their bases), " << transient_solves
+            << " without a basis (first solve on a law of a fit opening ring by ring), "
+            << anchor_seconds << " s with the bases and Gram matrices; " << refusals
+            << " reduced solves refused (each then an anchor)\n"
             << std::setprecision(6);
         double worst = 0;
         for (const auto &r : reduced)

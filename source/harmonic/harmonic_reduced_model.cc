@@ -186,7 +186,8 @@ namespace rotorfit
                 reach + slope * std::abs(omega - SpeedSchedule::rpm_to_rad_per_s(a.rpm)) < a.radius;
     if (!covered)
       {
-        reason << "coverage: the modes reach " << reach / (2 * M_PI) << " Hz from the shift";
+        reason << "coverage: the modes reach " << reach / (2 * M_PI)
+               << " Hz from the shift, beyond what an anchor covers at this speed";
         why = reason.str();
         return false;
       }
@@ -271,7 +272,8 @@ namespace rotorfit
         if (!(pair.backward_error <= speed.backward_limit))
           {
             reason << "backward error " << pair.backward_error << " at "
-                   << std::abs(l) / (2 * M_PI) << " Hz";
+                   << std::abs(l) / (2 * M_PI) << " Hz above the Backward error limit "
+                   << speed.backward_limit;
             why = reason.str();
             return false;
           }
@@ -316,7 +318,7 @@ namespace rotorfit
             if (!(estimate <= basis.tolerance()))
               {
                 reason << "error estimate " << estimate << " at " << std::abs(l) / (2 * M_PI)
-                       << " Hz";
+                       << " Hz above the Reduced tolerance " << basis.tolerance();
                 why = reason.str();
                 return false;
               }
