@@ -161,43 +161,21 @@ namespace rotorfit
       owned = complete_index_set(meridian.dofs().n_dofs());
       if (compute_modes)
         {
-          matrices.resize(harmonics.size());
-          // (PETSc matrices cannot be moved: made in place)
-          for (auto *p : {&petsc_m, &petsc_c, &petsc_k, &petsc_g, &petsc_k0, &petsc_k2})
-            *p = std::vector<PETScWrappers::MPI::SparseMatrix>(harmonics.size());
-          law_k0 = std::vector<SparseMatrix<double>>(harmonics.size());
-          law_k2 = std::vector<SparseMatrix<double>>(harmonics.size());
-          law_number.assign(harmonics.size(), 0);
+          operators = std::make_unique<HarmonicOperators>(
+            *assembler, contact, *bearings, harmonics, stations, system.stiffness_diagonal,
+            HarmonicOperators::Settings{prestress, centrifugal_prestress, convective, tie_scale},
+            comm);
           previous_law.assign(harmonics.size(), 0);
-          bearing_directions.assign(harmonics.size(), {});
           reduced.clear();
-          for (unsigned int k = 0; k < harmonics.size(); ++k)
-            {
-              auto &h = matrices[k];
-              assembler->assemble_harmonic(harmonics[k], stations, h);
-              // (M, K, G share the harmonic's pattern)
-              copy_to_petsc(h.K,
-                            {&petsc_m[k], &petsc_c[k], &petsc_k[k], &petsc_g[k], &petsc_k0[k],
-                             &petsc_k2[k]},
-                            comm);
-              copy_values(h.M, petsc_m[k]);
-              copy_values(h.G, petsc_g[k]);
-              law_k0[k].reinit(h.pattern);
-              law_k2[k].reinit(h.pattern);
-              for (unsigned int b = 0; b < bearings->size() && h.n == 1; ++b)
-                {
-                  bearing_directions[k].push_back(h.station_x[b]);
-                  bearing_directions[k].push_back(h.station_y[b]);
-                }
-              reduced.push_back(std::make_unique<HarmonicReducedModel>(h.n, reduced_settings));
-            }
+          for (const auto &h : operators->harmonics())
+            reduced.push_back(std::make_unique<HarmonicReducedModel>(h.n, reduced_settings));
         }
     }
     log << "Mass properties (meridian, exact geometry):\n";
     for (unsigned int b = 0; b < meridian.bodies().size(); ++b)
       log << "  body " << meridian.bodies()[b].name << ": mass " << system.mass[b]
           << " kg, polar moment of inertia " << system.polar[b] << " kg m^2\n";
-    for (const auto &h : matrices)
+    for (const auto &h : harmonic_matrices())
       log << "Harmonic " << h.n << ": " << h.free.n_free << " DoFs\n";
     contact.initialize({meridian.pairs(),
                         meridian.static_constraints(),
@@ -213,13 +191,6 @@ namespace rotorfit
     paraview = std::make_unique<MeridianOutput>(
       meridian, directory,
       std::max(24u, 8 * *std::max_element(harmonics.begin(), harmonics.end())));
-    // tie penalties from the radial stiffness of the two nodes (doc/theory.md 7.4)
-    const auto &pairs = meridian.pairs().pairs();
-    tie_penalty.resize(pairs.size());
-    for (unsigned int i = 0; i < pairs.size(); ++i)
-      tie_penalty[i] = tie_scale * 0.5 *
-                       (system.stiffness_diagonal[pairs[i].shaft_dofs[0]] +
-                        system.stiffness_diagonal[pairs[i].hub_dofs[0]]);
     trackers.assign(harmonics.size(), tracker_template);
     onsets.clear();
     for (unsigned int k = 0; k < harmonics.size(); ++k)
@@ -278,9 +249,9 @@ namespace rotorfit
           }
         if (response)
           {
-            const unsigned int k = std::find_if(matrices.begin(), matrices.end(),
+            const unsigned int k = std::find_if(operators->harmonics().begin(), operators->harmonics().end(),
                                                 [](const auto &h) { return h.n == 1; }) -
-                                   matrices.begin();
+                                   operators->harmonics().begin();
             TimerOutput::Scope t(timer, "unbalance response");
             ResponseAtSpeed    r = solve_response(k, state);
             response->record(r, "The direct solve of harmonic 1 is singular or ill-conditioned "
@@ -292,127 +263,12 @@ namespace rotorfit
     return state;
   }
 
-  void
-  HarmonicProblem::prepare_prestress(const StaticState &s)
-  {
-    // K_sigma of the law's two parts, once per law (doc/theory.md 2.3, 3); a
-    // tangent law (spin softening) is not affine: its whole field at w
-    const bool   affine = s.decomposition().affine;
-    const double omega  = SpeedSchedule::rpm_to_rad_per_s(s.rpm);
-    if (!prestress || (s.shared_law() == prestress_law && affine))
-      return;
-    PETScWrappers::MPI::Vector u0, u1;
-    contact.displacement(s.decomposition(), affine ? 0. : omega * omega, u0);
-    const Vector<double> u_I(u0);
-    Vector<double>       u_C(u_I.size());
-    if (affine && centrifugal_prestress)
-      {
-        contact.displacement(s.decomposition(), 1., u1);
-        u_C = Vector<double>(u1);
-        u_C -= u_I;
-      }
-    k_sigma_I.resize(matrices.size());
-    k_sigma_C.resize(matrices.size());
-    for (unsigned int k = 0; k < matrices.size(); ++k)
-      {
-        k_sigma_I[k] = std::make_unique<SparseMatrix<double>>();
-        k_sigma_C[k] = std::make_unique<SparseMatrix<double>>();
-        assembler->assemble_prestress(matrices[k], u_I, *k_sigma_I[k]);
-        assembler->assemble_prestress(matrices[k], u_C, *k_sigma_C[k]);
-        prestress_assemblies += 2;
-      }
-    prestress_law = s.shared_law();
-  }
-
-  std::size_t
-  HarmonicProblem::law_matrices(const unsigned int hk, const StaticState &s)
-  {
-    const bool affine = s.decomposition().affine;
-    if (s.shared_law() != law_of_matrices || (!affine && s.rpm != law_rpm) || n_laws == 0)
-      {
-        law_of_matrices = s.shared_law();
-        law_rpm         = affine ? -1 : s.rpm;
-        ++n_laws;
-      }
-    if (law_number[hk] == n_laws)
-      return n_laws;
-    prepare_prestress(s);
-    const auto &h  = matrices[hk];
-    auto       &k0 = law_k0[hk];
-    auto       &k2 = law_k2[hk];
-    k0.copy_from(h.K);
-    k2 = 0;
-    if (prestress)
-      {
-        k0.add(1., *k_sigma_I[hk]);
-        if (affine && centrifugal_prestress)
-          k2.add(1., *k_sigma_C[hk]);
-        if (centrifugal_prestress && convective)
-          k2.add(-1., h.K_theta);
-      }
-    assembler->add_ties(h, s.contact.active, tie_penalty, k0);
-    copy_values(k0, petsc_k0[hk]);
-    copy_values(k2, petsc_k2[hk]);
-    law_number[hk] = n_laws;
-    return n_laws;
-  }
-
-  std::vector<HarmonicReducedModel::Coupling>
-  HarmonicProblem::bearing_couplings(const unsigned int hk, const double rpm) const
-  {
-    std::vector<HarmonicReducedModel::Coupling> list;
-    for (unsigned int b = 0; b < bearings->size() && matrices[hk].n == 1; ++b)
-      {
-        Bearings::Coefficients kb, cb;
-        bearings->coefficients(b, rpm, kb, cb);
-        // (row direction, column direction) -> coefficient index
-        const unsigned int index[2][2] = {{0, 2}, {3, 1}};
-        for (unsigned int p = 0; p < 2; ++p)
-          for (unsigned int q = 0; q < 2; ++q)
-            if (kb[index[p][q]] != 0 || cb[index[p][q]] != 0)
-              list.push_back({2 * b + p, 2 * b + q, kb[index[p][q]], cb[index[p][q]]});
-      }
-    return list;
-  }
-
-  HarmonicReducedModel::Operators
-  HarmonicProblem::law_operators(const unsigned int hk) const
-  {
-    const auto &h = matrices[hk];
-    return {&h.M,         &h.G,          &law_k0[hk],   &law_k2[hk], &petsc_m[hk],
-            &petsc_g[hk], &petsc_k0[hk], &petsc_k2[hk], &bearing_directions[hk]};
-  }
-
-  void
-  HarmonicProblem::speed_matrices(const unsigned int    hk,
-                                  const StaticState    &s,
-                                  SparseMatrix<double> &k,
-                                  SparseMatrix<double> &c)
-  {
-    const double omega = SpeedSchedule::rpm_to_rad_per_s(s.rpm);
-    law_matrices(hk, s);
-    k.copy_from(law_k0[hk]);
-    k.add(omega * omega, law_k2[hk]);
-    c.copy_from(matrices[hk].G);
-    c *= omega;
-    const auto &a = bearing_directions[hk];
-    for (const auto &cp : bearing_couplings(hk, s.rpm))
-      for (const auto &[I, wi] : a[cp.p])
-        for (const auto &[J, wj] : a[cp.q])
-          {
-            if (cp.k != 0)
-              k.add(I, J, cp.k * wi * wj);
-            if (cp.c != 0)
-              c.add(I, J, cp.c * wi * wj);
-          }
-  }
-
   std::vector<std::complex<double>>
   HarmonicProblem::unbalance_load(const unsigned int hk) const
   {
     // F of every unbalance at Omega = 1: F_x = m e e^{i phi} a, F_y = -i F_x
     // (doc/theory.md 13) on the station's weights; stations after the bearings
-    const auto                       &h          = matrices[hk];
+    const auto                       &h          = operators->harmonic(hk);
     const std::size_t                 n_bearings = bearings->size();
     const auto                       &list       = response->unbalance_list();
     std::vector<std::complex<double>> f(h.free.n_free);
@@ -430,7 +286,7 @@ namespace rotorfit
   ResponseAtSpeed
   HarmonicProblem::solve_response(const unsigned int hk, const StaticState &s)
   {
-    const auto  &h     = matrices[hk];
+    const auto  &h     = operators->harmonic(hk);
     const double omega = SpeedSchedule::rpm_to_rad_per_s(s.rpm);
     const unsigned int n = h.free.n_free;
     ResponseAtSpeed    out;
@@ -462,13 +318,13 @@ namespace rotorfit
     };
     // on harmonic 1's reduced basis where it serves this law (doc/theory.md 14.6)
     if (reduced_settings.enabled() && s.decomposition().affine &&
-        reduced[hk]->serves(law_matrices(hk, s)))
+        reduced[hk]->serves(operators->law_matrices(hk, s)))
       {
         HarmonicReducedModel::Speed speed;
         speed.rpm       = s.rpm;
-        speed.couplings = bearing_couplings(hk, s.rpm);
+        speed.couplings = operators->bearing_couplings(hk, s.rpm);
         std::vector<std::complex<double>> F(f.begin(), f.end()), U;
-        if (reduced[hk]->respond(law_operators(hk), speed, F, response->residual_tolerance(),
+        if (reduced[hk]->respond(operators->law_operators(hk), speed, F, response->residual_tolerance(),
                                  response->maximum_enrichments(), solvers[hk]->linear_solver(), U,
                                  out.residual, out.basis_size))
           {
@@ -485,7 +341,7 @@ namespace rotorfit
     // M, C share it, so entry by entry): half the unknowns of the real 2 x 2
     // block form, and UMFPACK's complex LU is about 3 x faster on it
     SparseMatrix<double> k(h.pattern), c(h.pattern);
-    speed_matrices(hk, s, k, c);
+    operators->speed_matrices(hk, s, k, c);
     SparseMatrix<std::complex<double>> z(h.pattern);
     double                             z_norm2 = 0; // (Frobenius)
     auto im = h.M.begin();
@@ -564,14 +420,14 @@ namespace rotorfit
   EigenSolution
   HarmonicProblem::solve_harmonic(const unsigned int hk, const StaticState &s)
   {
-    const auto &h = matrices[hk];
+    const auto &h = operators->harmonic(hk);
     // rigid motions on top of the modes wanted: axial translation and twist
     // (n = 0) of every group of bodies the closed pairs tie together,
     // translations and tilts (n = 1) of every such group no bearing holds
     const unsigned int rigid = rigid_motions(h.n, s);
     const unsigned int wanted =
       std::min<unsigned int>(2 * (modes_per_harmonic + rigid), h.free.n_free - 2);
-    const std::size_t law = law_matrices(hk, s);
+    const std::size_t law = operators->law_matrices(hk, s);
     // the reduced model serves the affine laws (doc/theory.md 14.6)
     const bool use_reduced = reduced_settings.enabled() && s.decomposition().affine;
     std::vector<EigenPair> pairs_found;
@@ -581,13 +437,13 @@ namespace rotorfit
         const auto                   t0 = std::chrono::steady_clock::now();
         HarmonicReducedModel::Speed speed;
         speed.rpm            = s.rpm;
-        speed.couplings      = bearing_couplings(hk, s.rpm);
+        speed.couplings      = operators->bearing_couplings(hk, s.rpm);
         speed.n_wanted       = wanted;
         speed.sigma          = eigensolver.shift();
         speed.backward_limit = eigensolver.backward_error_limit();
         speed.rigid_hz       = rigid_threshold;
         std::string why;
-        solved = reduced[hk]->solve(law_operators(hk), speed, pairs_found, why);
+        solved = reduced[hk]->solve(operators->law_operators(hk), speed, pairs_found, why);
         reduced_seconds +=
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         if (solved)
@@ -606,22 +462,15 @@ namespace rotorfit
     previous_law[hk]     = law;
     // the full solve; with the reduced model an anchor with the margin modes
     if (!solved || (s.rpm == 0 && h.n > 0))
-      {
-        const auto t0 = std::chrono::steady_clock::now();
-        SparseMatrix<double> k(h.pattern), c(h.pattern);
-        speed_matrices(hk, s, k, c);
-        copy_values(c, petsc_c[hk]);
-        copy_values(k, petsc_k[hk]);
-        matrix_seconds +=
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      }
+      matrix_seconds += operators->assemble_speed(hk, s);
     if (!solved)
       {
         const auto         t0     = std::chrono::steady_clock::now();
         const bool         anchor = use_reduced && !transient;
         const unsigned int margin = anchor ? 2 * reduced_settings.margin() : 0;
         const unsigned int asked  = std::min<unsigned int>(wanted + margin, h.free.n_free - 2);
-        pairs_found = solvers[hk]->solve(petsc_m[hk], petsc_c[hk], petsc_k[hk], asked, statistics);
+        pairs_found = solvers[hk]->solve(operators->mass(hk), operators->damping(hk),
+                                           operators->stiffness(hk), asked, statistics);
         unconverged_slots += statistics.unconverged_slots;
         restarts += statistics.iterations;
         factor_seconds += statistics.factorization_seconds;
@@ -644,7 +493,7 @@ namespace rotorfit
                 for (unsigned int i = 0; i < f.size(); ++i)
                   loads[0][i] = f[i].real(), loads[1][i] = f[i].imag();
               }
-            reduced[hk]->add_anchor(law_operators(hk), law, s.rpm, pairs_found, radius,
+            reduced[hk]->add_anchor(operators->law_operators(hk), law, s.rpm, pairs_found, radius,
                                     solvers[hk]->linear_solver(), loads);
             ++anchors;
             keep_nearest(pairs_found, wanted, eigensolver.shift());
@@ -731,9 +580,9 @@ namespace rotorfit
     std::vector<StabilityOnset> found;
     crossings.rpm                = s.rpm;
     crossings.isotropic_supports = bearings->isotropic(s.rpm);
-    for (unsigned int hk = 0; hk < matrices.size(); ++hk)
+    for (unsigned int hk = 0; hk < operators->size(); ++hk)
       {
-        const unsigned int n        = matrices[hk].n;
+        const unsigned int n        = operators->harmonic(hk).n;
         EigenSolution      solution = solve_harmonic(hk, s);
         for (const auto &p : solution.elastic)
           sweep_worst_estimate = std::max(sweep_worst_estimate, p.error_estimate);
@@ -749,7 +598,7 @@ namespace rotorfit
             mode.lambda           = p.lambda;
             mode.backward_error   = p.backward_error;
             mode.forward_fraction = n == 0 ? std::numeric_limits<double>::quiet_NaN() :
-                                             waves.forward_fraction(matrices[hk], p.phi);
+                                             waves.forward_fraction(operators->harmonic(hk), p.phi);
             // the 3D model's rule on the whirl ratio 2 f - 1 (doc/theory.md 9.2)
             const double ratio = 2 * mode.forward_fraction - 1;
             mode.travel        = n == 0         ? "-" :
@@ -855,7 +704,7 @@ namespace rotorfit
   HarmonicProblem::max_harmonic_dofs() const
   {
     unsigned int n = 0;
-    for (const auto &h : matrices)
+    for (const auto &h : harmonic_matrices())
       n = std::max(n, h.free.n_free);
     return n;
   }
@@ -865,7 +714,7 @@ namespace rotorfit
                          const unsigned int   index,
                          const ComplexVector &phi) const
   {
-    return {matrices[hk].n, index, waves.expand(matrices[hk], phi)};
+    return {operators->harmonic(hk).n, index, waves.expand(operators->harmonic(hk), phi)};
   }
 
   void
@@ -897,8 +746,9 @@ namespace rotorfit
   unsigned int
   HarmonicProblem::add_missing_partners(const unsigned int hk, std::vector<EigenPair> &modes) const
   {
-    const auto         &h = matrices[hk];
-    const BackwardError backward_error(petsc_m[hk], petsc_c[hk], petsc_k[hk]);
+    const auto         &h = operators->harmonic(hk);
+    const BackwardError backward_error(operators->mass(hk), operators->damping(hk),
+                                       operators->stiffness(hk));
     std::vector<EigenPair> added;
     for (unsigned int i = 0; i < modes.size(); ++i)
       {
@@ -945,13 +795,13 @@ namespace rotorfit
     for (const auto n : harmonics)
       list += (list.empty() ? "" : " ") + std::to_string(n);
     summary.add("harmonic.harmonics", list);
-    for (const auto &h : matrices)
+    for (const auto &h : harmonic_matrices())
       summary.add("harmonic." + std::to_string(h.n) + ".dofs", h.free.n_free);
     summary.add("static.factorizations", contact.n_factorizations());
     summary.add("static.speed_path",
                 contact.path() == ContactSolver::Path::exact ? "exact" : "sampled");
     summary.add("eigen.modes_written", n_modes_written);
-    summary.add("eigen.prestress_assemblies", prestress_assemblies);
+    summary.add("eigen.prestress_assemblies", operators ? operators->prestress_assemblies() : 0);
     summary.add("eigen.solves", eigen_solves);
     // ARPACK slots left unconverged are dropped, never reported as modes
     summary.add("eigen.unconverged_slots", unconverged_slots);

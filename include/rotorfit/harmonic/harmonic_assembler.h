@@ -71,6 +71,12 @@ namespace rotorfit
              const std::vector<double>    &penalty,
              dealii::SparseMatrix<double> &k) const;
 
+    const MeridianModel &
+    meridian() const
+    {
+      return model;
+    }
+
   private:
     const MeridianModel &model;
   };

@@ -8,6 +8,7 @@
 #include <rotorfit/eigen/speed_eigenproblem.h>
 #include <rotorfit/harmonic/harmonic_assembler.h>
 #include <rotorfit/harmonic/harmonic_mode.h>
+#include <rotorfit/harmonic/harmonic_operators.h>
 #include <rotorfit/harmonic/harmonic_reduced_model.h>
 #include <rotorfit/harmonic/harmonic_waves.h>
 #include <rotorfit/harmonic/meridian_model.h>
@@ -166,41 +167,15 @@ namespace rotorfit
                          const StaticState   &state,
                          const EigenSolution &solution);
 
-    /// K_sigma of @p state's contact law (kept while the law is shared).
-    void
-    prepare_prestress(const StaticState &state);
-
-    /// K_0 and K_2 of harmonic @p k on @p state's law (K_t = K_0 +
-    /// Omega^2 K_2 + K_b): made again where the law changed; returns the
-    /// law's number (a new law, a new number).
-    std::size_t
-    law_matrices(const unsigned int k, const StaticState &state);
-
-    /// The bearings' springs and dampers of harmonic @p k at @p rpm on
-    /// its station directions (bearing_directions).
-    std::vector<HarmonicReducedModel::Coupling>
-    bearing_couplings(const unsigned int k, const double rpm) const;
-
-    /// Harmonic @p k's matrices on its current law, for the reduced model.
-    HarmonicReducedModel::Operators
-    law_operators(const unsigned int k) const;
-
-    /// K_t and C = Omega G + C_b of harmonic @p k (index into the list) at
-    /// @p state.rpm on @p state's law, on the harmonic's pattern.
-    void
-    speed_matrices(const unsigned int          k,
-                   const StaticState          &state,
-                   dealii::SparseMatrix<double> &stiffness,
-                   dealii::SparseMatrix<double> &damping);
-
     /// The unbalances' force on harmonic @p k (harmonic 1) at Omega = 1
     /// (the speed's is Omega^2 times it), complex, free numbering.
     std::vector<std::complex<double>>
     unbalance_load(const unsigned int k) const;
 
     /// The unbalance response of harmonic @p k (harmonic 1) at @p state:
-    /// (K_t - Omega^2 M + i Omega C) U = F Omega^2, solved directly (UMFPACK's
-    /// complex LU), read at the probes.
+    /// (K_t - Omega^2 M + i Omega C) U = F Omega^2, on harmonic 1's reduced
+    /// basis where it serves, else directly (UMFPACK's complex LU), read at
+    /// the probes.
     ResponseAtSpeed
     solve_response(const unsigned int k, const StaticState &state);
 
@@ -261,26 +236,15 @@ namespace rotorfit
     StaticState                     state;
 
     // dynamics
-    std::vector<HarmonicAssembler::Harmonic> matrices;
-    /// per harmonic: M, and the matrices K, C are filled into (same pattern
-    /// at every speed)
-    std::vector<dealii::PETScWrappers::MPI::SparseMatrix> petsc_m, petsc_c, petsc_k;
-    /// K_sigma is linear in the static displacement u = u_I + w u_C: per
-    /// harmonic K_sigma(u_I) and K_sigma(u_C) of the law they were made for
-    std::shared_ptr<const ContactSolver::Decomposition> prestress_law;
-    std::vector<std::unique_ptr<dealii::SparseMatrix<double>>> k_sigma_I, k_sigma_C;
-    unsigned int                                        prestress_assemblies = 0;
-    std::vector<double>                      tie_penalty; ///< per ring pair
-    /// per harmonic: K_0, K_2 of the current law (and their PETSc copies,
-    /// with G's), the law's number, the bearings' station directions
-    std::vector<dealii::SparseMatrix<double>>             law_k0, law_k2;
-    std::vector<dealii::PETScWrappers::MPI::SparseMatrix> petsc_g, petsc_k0, petsc_k2;
-    std::vector<std::size_t>                              law_number;
+    std::unique_ptr<HarmonicOperators> operators; ///< made by start() (with modes)
+    /// the harmonics' matrices (none without modes)
+    const std::vector<HarmonicAssembler::Harmonic> &
+    harmonic_matrices() const
+    {
+      static const std::vector<HarmonicAssembler::Harmonic> none;
+      return operators ? operators->harmonics() : none;
+    }
     std::vector<std::size_t> previous_law; ///< per harmonic: the law of its previous solve
-    std::vector<std::vector<HarmonicReducedModel::Direction>> bearing_directions;
-    std::shared_ptr<const ContactSolver::Decomposition>   law_of_matrices;
-    double                                                law_rpm = -1;
-    std::size_t                                           n_laws  = 0;
     /// the reduced model of each harmonic (Eigenproblem/Reduced model)
     ReducedBasis                                       reduced_settings;
     std::vector<std::unique_ptr<HarmonicReducedModel>> reduced;
