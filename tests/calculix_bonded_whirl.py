@@ -37,7 +37,6 @@ default's, seven times below the elements' offset).
   calculix_bonded_whirl.py ROTORFIT OUTDIR [--ccx ccx]
                            [--set ENTRY=VALUE ...]   (extra rotorfit --set)
 """
-import argparse
 import os
 import sys
 import time
@@ -59,44 +58,8 @@ TOL = 3e-4        # observed up to 1.20e-4 (first pair at rest)
 TOL_SPLIT = (2.6e-2, 7e-4)
 
 
-def deck(path, model, rpm):
-    """Static (supports), then the two perturbation steps without them."""
-    ref_z = ["%d, 3, 3" % r for r in model["refs"]]
-    lines = model["lines"] + ["*BOUNDARY"] + ref_z + model["supports"] + [
-        "*STEP", "*STATIC", "*DLOAD", cr.centrif(rpm), "*END STEP",
-        "*STEP, PERTURBATION", "*FREQUENCY, STORAGE=YES", "%d, %g" % (N_REAL, F_LOWER),
-        "*BOUNDARY, OP=NEW"] + ref_z + ["*END STEP",
-        "*STEP, PERTURBATION", "*COMPLEX FREQUENCY, CORIOLIS", "%d" % N_COMPLEX,
-        "*END STEP"]
-    with open(path, "w") as f:
-        f.write("\n".join(lines) + "\n")
-
-
-def whirl_modes(campbell, rpm):
-    """rotorfit's four lowest whirl modes at RPM: [(whirl, f [Hz])]."""
-    rows = [r for r in campbell if abs(float(r["speed_rpm"]) - rpm) < 0.5]
-    if not rows:
-        cr.die("campbell.csv has no row at %g r/min" % rpm)
-    bad = [r for r in rows if r["static_converged"] != "1" or r["fit_state"] != "closed"]
-    if bad:
-        cr.die("rotorfit at %g r/min: fit_state %s, static_converged %s (the "
-               "bonded reference needs the fit closed)" %
-               (rpm, bad[0]["fit_state"], bad[0]["static_converged"]))
-    modes = sorted(((r["whirl"], float(r["frequency_hz"])) for r in rows
-                    if r["whirl"] in ("backward", "forward")), key=lambda m: m[1])
-    if len(modes) < 4:
-        cr.die("rotorfit at %g r/min: %d whirl modes, 4 wanted" % (rpm, len(modes)))
-    return modes[:4]
-
-
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("rotorfit")
-    ap.add_argument("outdir")
-    ap.add_argument("--ccx", default="ccx")
-    ap.add_argument("--set", action="append", default=[], dest="sets",
-                    help="extra rotorfit --set (fault injection)")
-    args = ap.parse_args()
+    args = cr.arguments()
     t_start = time.time()
     cr.require_tools(args.ccx)
     work = os.path.abspath(args.outdir)
@@ -105,55 +68,21 @@ def main():
     model = cr.ccx_model(msh, "bonded")
     print("mesh %s: CalculiX %d DOFs (fit bonded)" % (msh, model["ndofs"]), flush=True)
 
-    # the two CalculiX speeds side by side, one core each
-    jobs = []
-    for rpm in (0.0, SPEED):
-        job = "whirl_%05d" % rpm
-        deck(os.path.join(work, job + ".inp"), model, rpm)
-        jobs.append(job)
-    print("CalculiX, 2 speeds: %.1f s" % cr.run_ccx_jobs(args.ccx, jobs, work), flush=True)
-
-    out = os.path.join(work, "rotorfit")
-    sets = ["Geometry/Geometry file=" + msh, "Geometry/Geometry parameters=",
-            "Speeds/Mode=list", "Speeds/List=0, %g" % SPEED,
-            "Eigenproblem/Number of modes=6", "Unbalances=", "Probes=",
-            "Output/Pictures=false", "Output/Write ParaView files=false"]
-    for b in ("left", "right"):
-        sets += ["Bearing %s/cxx=0" % b, "Bearing %s/cyy=0" % b]
-    wall = cr.run_rotorfit(args.rotorfit, out, sets + args.sets)
-    print("rotorfit, 2 speeds: %.1f s" % wall, flush=True)
-    campbell = cr.read_csv(os.path.join(out, "campbell.csv"))
+    dats, campbell = cr.bonded_speeds(args, work, msh, model, "whirl", SPEED, 6,
+                                      (N_REAL, N_COMPLEX, F_LOWER))
 
     checks = cr.Checks()
     print("\nrelative difference = (rotorfit - CalculiX) / f, in the stationary frame")
     # at rest: both codes' lowest four, sorted (the members of a doublet
     # and their whirl labels are arbitrary there)
-    mine = sorted(f for w, f in whirl_modes(campbell, 0.0))
-    theirs = sorted(cr.read_ccx_real(os.path.join(work, jobs[0] + ".dat")))[:4]
+    mine = sorted(f for w, f in cr.lowest_whirl(campbell, 0.0, 4))
+    theirs = sorted(cr.read_ccx_real(dats[0]))[:4]
     for k, (a, b) in enumerate(zip(mine, theirs)):
         checks.rel("0 r/min, mode %d [Hz]" % (k + 1), a, b, TOL)
     # at speed: each rotorfit mode against the CalculiX mode of its
     # rotating-frame frequency and turning direction (one to one)
-    spin = SPEED / 60
-    cf = cr.read_ccx_complex(os.path.join(work, jobs[1] + ".dat"))
-    used = set()
-    matched = []
-    for whirl, f in whirl_modes(campbell, SPEED):
-        target, turn = cr.rotating(whirl, f, spin)
-        cands = [(abs(c[0] - target), j) for j, c in enumerate(cf)
-                 if c[1] == turn and j not in used]
-        if not cands:
-            cr.die("%g r/min: no CalculiX mode turning %s for rotorfit's %s %.3f Hz"
-                   % (SPEED, turn, whirl, f))
-        j = min(cands)[1]
-        used.add(j)
-        # back to the stationary frame: f_ccx = its rotating frequency
-        # converted the other way
-        fr = cf[j][0]
-        f_ccx = fr - spin if whirl == "backward" else (fr + spin if turn == "F" else spin - fr)
-        checks.rel("%g r/min, %s %.1f Hz (CalculiX %.3f Hz %s rot.)" %
-                   (SPEED, whirl, f, fr, turn), f, f_ccx, TOL)
-        matched.append((whirl, f, f_ccx))
+    matched = cr.match_whirl(checks, cr.lowest_whirl(campbell, SPEED, 4),
+                             dats[1], SPEED, TOL)
     # each pair's split (the gyroscopic effect itself; a 1 % error of one
     # body's G moves the second pair's by about 1 %)
     for k in range(2):

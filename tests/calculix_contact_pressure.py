@@ -55,7 +55,6 @@ enter the statics.
   calculix_contact_pressure.py ROTORFIT OUTDIR [--ccx ccx]
                                [--set ENTRY=VALUE ...]   (extra rotorfit --set)
 """
-import argparse
 import os
 import sys
 import time
@@ -76,15 +75,9 @@ OPEN = 1e-6                # total normal force / force at rest below: open
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("rotorfit")
-    ap.add_argument("outdir")
-    ap.add_argument("--ccx", default="ccx")
-    ap.add_argument("--set", action="append", default=[], dest="sets",
-                    help="extra rotorfit --set (fault injection)")
-    ap.add_argument("--reuse", action="store_true",
-                    help="read CalculiX's results of an earlier run in OUTDIR")
-    args = ap.parse_args()
+    args = cr.arguments(lambda ap: ap.add_argument(
+        "--reuse", action="store_true",
+        help="read CalculiX's results of an earlier run in OUTDIR"))
     t_start = time.time()
     cr.require_tools(args.ccx)
     work = os.path.abspath(args.outdir)

@@ -23,6 +23,7 @@ It also runs ccx and rotorfit and reads their results. The ideas follow
 benchmarks/calculix_ts.py (doc/calculix.md), which is not imported: the
 tests stand on their own.
 """
+import argparse
 import csv
 import math
 import os
@@ -66,18 +67,51 @@ def require_tools(ccx):
 
 
 # ------------------------------------------------------------------- mesh
-def mesh(work, h_fit, h_max, geo=TS_GEO):
-    """Mesh GEO once with gmsh (P2 tetrahedra, .msh 2.2): both codes read it."""
+def mesh(work, h_fit, h_max, geo=TS_GEO, params=None):
+    """Mesh GEO once with gmsh (P2 tetrahedra, .msh 2.2): both codes read it.
+    PARAMS: further DefineConstant values of GEO {name: value}."""
     os.makedirs(work, exist_ok=True)
     wrapper = os.path.join(work, "mesh.geo")
+    values = dict(h_fit=h_fit, h_max=h_max, **(params or {}))
     with open(wrapper, "w") as f:
-        f.write("h_fit = %r;\nh_max = %r;\nInclude \"%s\";\n" % (h_fit, h_max, geo))
+        f.write("".join("%s = %r;\n" % kv for kv in values.items()) +
+                "Include \"%s\";\n" % geo)
     msh = os.path.join(work, "mesh.msh")
     r = subprocess.run(["gmsh", "-3", "-order", "2", "-format", "msh22", wrapper,
                         "-o", msh], capture_output=True, text=True)
     if r.returncode != 0 or not os.path.exists(msh):
         die("gmsh failed on %s:\n%s" % (wrapper, r.stdout[-2000:] + r.stderr[-2000:]))
     return msh
+
+
+def arguments(extra=None):
+    """The command line of every CalculiX test: ROTORFIT OUTDIR [--ccx ccx]
+    [--set ENTRY=VALUE ...] (extra rotorfit --set, for fault injection);
+    EXTRA(parser) adds a test's own options."""
+    ap = argparse.ArgumentParser()
+    ap.add_argument("rotorfit")
+    ap.add_argument("outdir")
+    ap.add_argument("--ccx", default="ccx")
+    ap.add_argument("--set", action="append", default=[], dest="sets",
+                    help="extra rotorfit --set (fault injection)")
+    if extra:
+        extra(ap)
+    return ap.parse_args()
+
+
+def whirl_deck(path, model, rpm, n_real, n_complex, f_lower):
+    """Static (supports) under CENTRIF at RPM, then a *FREQUENCY perturbation
+    step (N_REAL modes above F_LOWER [Hz], the static step's stress
+    stiffness) and *COMPLEX FREQUENCY, CORIOLIS (N_COMPLEX) without them."""
+    ref_z = ["%d, 3, 3" % r for r in model["refs"]]
+    lines = model["lines"] + ["*BOUNDARY"] + ref_z + model["supports"] + [
+        "*STEP", "*STATIC", "*DLOAD", centrif(rpm), "*END STEP",
+        "*STEP, PERTURBATION", "*FREQUENCY, STORAGE=YES", "%d, %g" % (n_real, f_lower),
+        "*BOUNDARY, OP=NEW"] + ref_z + ["*END STEP",
+        "*STEP, PERTURBATION", "*COMPLEX FREQUENCY, CORIOLIS", "%d" % n_complex,
+        "*END STEP"]
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
 
 
 def read_msh22(path):
@@ -193,22 +227,26 @@ def _supports(nodes, body_nodes):
     return eqs, ["%d, 3, 3" % tags[k]]
 
 
-def ccx_model(msh, fit):
+def ccx_model(msh, fit, materials=MATERIALS):
     """The model lines of MSH for CalculiX. FIT: 'bonded' (the fit's shared
     nodes kept) or 'contact' (the sleeve's fit nodes duplicated; surfaces
-    SSHAFT, SSLEEVE). Returns a dict: lines, refs (bearing reference nodes),
-    supports (*BOUNDARY lines of the static steps), fit_area, fit nodes."""
+    SSHAFT, SSLEEVE). MATERIALS: {physical volume: (E, nu, rho)}, the shaft
+    first, then the hub (called the sleeve here, as TS's). Returns a dict:
+    lines, refs (bearing reference nodes), supports (*BOUNDARY lines of the
+    static steps), fit_area, fit nodes."""
     nodes, names, elements = read_msh22(msh)
     by_name = {v: k for k, v in names.items()}
-    for need in ("shaft", "sleeve", "fit", "bearing_left", "bearing_right"):
+    bodies = list(materials)
+    for need in bodies + ["fit", "bearing_left", "bearing_right"]:
         if need not in by_name:
             die("%s has no physical group '%s'" % (msh, need))
     fit_tris = [tags for typ, ph, tags in elements if typ == 9 and ph == by_name["fit"]]
     fit_nodes = {t for tri in fit_tris for t in tri}
     tets = {"shaft": [], "sleeve": []}
+    role = {by_name[bodies[0]]: "shaft", by_name[bodies[1]]: "sleeve"}
     for typ, ph, tags in elements:
         if typ == 11:
-            tets[names[ph]].append(list(tags))
+            tets[role[ph]].append(list(tags))
     shaft_nodes = {t for tet in tets["shaft"] for t in tet}
     sleeve_nodes = {t for tet in tets["sleeve"] for t in tet}
     if not fit_nodes <= shaft_nodes or not fit_nodes <= sleeve_nodes:
@@ -236,7 +274,7 @@ def ccx_model(msh, fit):
             eid += 1
             lines.append("%d, " % eid + ", ".join(str(tet[k]) for k in TET10))
     lines.append("*ELSET, ELSET=EALL\nESHAFT, ESLEEVE")
-    for body, (E, nu, rho) in MATERIALS.items():
+    for body, (E, nu, rho) in zip(("shaft", "sleeve"), materials.values()):
         lines += ["*MATERIAL, NAME=%s" % body.upper(), "*ELASTIC",
                   "%s, %s" % (_num(E), _num(nu)), "*DENSITY", _num(rho),
                   "*SOLID SECTION, ELSET=E%s, MATERIAL=%s" % (body.upper(), body.upper())]
@@ -293,6 +331,7 @@ def ccx_model(msh, fit):
         supports = ["%d, 3, 3" % axis, "%d, 2, 2" % side]
     return {"lines": lines, "refs": refs, "supports": supports, "fit_area": fit_area,
             "nodes": nodes, "fit_tris": fit_tris, "twin": twin, "tets": tets,
+            "materials": dict(zip(("shaft", "sleeve"), materials.values())),
             "ndofs": 3 * (len(used) + len(refs))}
 
 
@@ -408,7 +447,7 @@ def centrifugal_nodal_loads(model, tags):
     out = {t: np.zeros(3) for t in want}
     nodes = model["nodes"]
     for body, tets in model["tets"].items():
-        rho = MATERIALS[body][2]
+        rho = model["materials"][body][2]
         for tet in tets:
             if not want.intersection(tet):
                 continue
@@ -565,6 +604,82 @@ def rotating(whirl, f, spin_hz):
     if whirl == "forward":
         return abs(f - spin_hz), "F" if f > spin_hz else "B"
     return f, "?"
+
+
+def bonded_speeds(args, work, msh, model, name, speed, n_modes, steps, prm=TS_PRM):
+    """Both codes at rest and at SPEED [r/min] on MSH, the fit bonded:
+    CalculiX's whirl_deck (STEPS = (n_real, n_complex, f_lower)), the two
+    speeds side by side, one core each; rotorfit on PRM with N_MODES modes,
+    its bearing dampers 0 (CalculiX has none). Returns the two .dat files
+    and rotorfit's campbell.csv rows."""
+    jobs = []
+    for rpm in (0.0, speed):
+        job = "%s_%05d" % (name, rpm)
+        whirl_deck(os.path.join(work, job + ".inp"), model, rpm, *steps)
+        jobs.append(job)
+    print("CalculiX, 2 speeds: %.1f s" % run_ccx_jobs(args.ccx, jobs, work), flush=True)
+    out = os.path.join(work, "rotorfit")
+    sets = ["Geometry/Geometry file=" + msh, "Geometry/Geometry parameters=",
+            "Speeds/Mode=list", "Speeds/List=0, %g" % speed,
+            "Eigenproblem/Number of modes=%d" % n_modes, "Unbalances=", "Probes=",
+            "Output/Pictures=false", "Output/Write ParaView files=false"]
+    for b in ("left", "right"):
+        sets += ["Bearing %s/cxx=0" % b, "Bearing %s/cyy=0" % b]
+    wall = run_rotorfit(args.rotorfit, out, sets + args.sets, prm=prm)
+    print("rotorfit, 2 speeds: %.1f s" % wall, flush=True)
+    return ([os.path.join(work, j + ".dat") for j in jobs],
+            read_csv(os.path.join(out, "campbell.csv")))
+
+
+def closed_rows(campbell, rpm):
+    """rotorfit's campbell.csv rows at RPM; dies unless the static state
+    converged with the fit closed (the bonded reference needs it)."""
+    rows = [r for r in campbell if abs(float(r["speed_rpm"]) - rpm) < 0.5]
+    if not rows:
+        die("campbell.csv has no row at %g r/min" % rpm)
+    bad = [r for r in rows if r["static_converged"] != "1" or r["fit_state"] != "closed"]
+    if bad:
+        die("rotorfit at %g r/min: fit_state %s, static_converged %s (the "
+            "bonded reference needs the fit closed)" %
+            (rpm, bad[0]["fit_state"], bad[0]["static_converged"]))
+    return rows
+
+
+def lowest_whirl(campbell, rpm, n):
+    """rotorfit's N lowest whirl modes at RPM: [(whirl, f [Hz])]."""
+    modes = sorted(((r["whirl"], float(r["frequency_hz"])) for r in closed_rows(campbell, rpm)
+                    if r["whirl"] in ("backward", "forward")), key=lambda m: m[1])
+    if len(modes) < n:
+        die("rotorfit at %g r/min: %d whirl modes, %d wanted" % (rpm, len(modes), n))
+    return modes[:n]
+
+
+def match_whirl(checks, modes, dat, rpm, tol):
+    """Each rotorfit whirl mode of MODES [(whirl, f [Hz])] at RPM against the
+    CalculiX complex mode (DAT) of its rotating-frame frequency and turning
+    direction, one to one, converted back to the stationary frame and
+    checked to TOL; returns [(whirl, f, f_ccx)]."""
+    spin = rpm / 60
+    cf = read_ccx_complex(dat)
+    used = set()
+    matched = []
+    for whirl, f in modes:
+        target, turn = rotating(whirl, f, spin)
+        cands = [(abs(c[0] - target), j) for j, c in enumerate(cf)
+                 if c[1] == turn and j not in used]
+        if not cands:
+            die("%g r/min: no CalculiX mode turning %s for rotorfit's %s %.3f Hz"
+                % (rpm, turn, whirl, f))
+        j = min(cands)[1]
+        used.add(j)
+        # back to the stationary frame: f_ccx = its rotating frequency
+        # converted the other way
+        fr = cf[j][0]
+        f_ccx = fr - spin if whirl == "backward" else (fr + spin if turn == "F" else spin - fr)
+        checks.rel("%g r/min, %s %.1f Hz (CalculiX %.3f Hz %s rot.)" %
+                   (rpm, whirl, f, fr, turn), f, f_ccx, tol)
+        matched.append((whirl, f, f_ccx))
+    return matched
 
 
 # ------------------------------------------------------------- checking

@@ -1,5 +1,6 @@
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/eigen/prestressed_eigenproblem.h>
+#include <rotorfit/mesh/revolution_check.h>
 #include <rotorfit/statics/speed_schedule.h>
 
 #include <algorithm>
@@ -150,6 +151,14 @@ namespace rotorfit
     bearings.setup(model, log);
     classifier.setup();
     tangent.setup();
+    circumferential_share = RevolutionCheck::circumferential_share(
+      model.mesh(), dof_handler, model.bodies().size(), dof_handler.get_communicator());
+    for (unsigned int b = 0; b < circumferential_share.size(); ++b)
+      if (circumferential_share[b] > RevolutionCheck::limit)
+        log << "Body " << model.bodies()[b].name << ": " << 100 * circumferential_share[b]
+            << " % of its surface faces the circumferential direction: not a body of "
+               "revolution; the stationary frame holds above 0 r/min only for the modes that "
+               "move it rigidly (doc/bladed_impeller.md)\n";
 
     // more modes than the model has
     std::vector<bool>  loose;
@@ -219,6 +228,8 @@ namespace rotorfit
     solution.index = state.index;
     solution.tied  = tangent.tied_pairs(state);
     solution.isotropic_supports = bearings.isotropic(state.rpm);
+    if (state.rpm > 0)
+      warn_not_of_revolution(state.rpm);
     tangent.assemble(state, solution.tied, speeds_done == 0);
     last_rpm      = state.rpm;
     speed_reduced = false;
@@ -456,6 +467,15 @@ namespace rotorfit
   void
   PrestressedEigenproblem::finish(Summary &summary) const
   {
+    bool of_revolution = true;
+    for (unsigned int b = 0; b < circumferential_share.size(); ++b)
+      {
+        summary.add("body." + model.bodies()[b].name + ".circumferential_share",
+                    circumferential_share[b]);
+        of_revolution = of_revolution && circumferential_share[b] <= RevolutionCheck::limit;
+      }
+    if (!circumferential_share.empty())
+      summary.add("eigen.rotor_of_revolution", of_revolution ? 1 : 0);
     if (!compute || speeds_done == 0)
       return;
     for (const auto &[key, value] : self_checks.results())
@@ -500,6 +520,23 @@ namespace rotorfit
     if (any_reduced)
       log << reduced_solve.worst_estimate;
     log << '\n';
+  }
+
+  void
+  PrestressedEigenproblem::warn_not_of_revolution(const double rpm)
+  {
+    if (revolution_warned)
+      return;
+    revolution_warned = true;
+    for (unsigned int b = 0; b < circumferential_share.size(); ++b)
+      if (circumferential_share[b] > RevolutionCheck::limit)
+        log << "Warning: body " << model.bodies()[b].name << " is not a body of revolution ("
+            << 100 * circumferential_share[b]
+            << " % of its surface faces the circumferential direction: blades, keys, flats). "
+               "The stationary frame (doc/theory.md 4.1) holds above 0 r/min only for the "
+               "modes that move such parts rigidly with their hub, as the whirl pairs do "
+               "(checked against CalculiX's rotating frame: doc/bladed_impeller.md); modes "
+               "that deform them (blade modes) are wrong from " << rpm << " r/min on.\n";
   }
 
   void

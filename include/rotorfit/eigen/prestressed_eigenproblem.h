@@ -216,6 +216,10 @@ namespace rotorfit
     void
     warn_far_shift(const EigenSolution &solution, const double rpm);
 
+    /// Once, at the first speed above 0: the bodies that are not of revolution.
+    void
+    warn_not_of_revolution(const double rpm);
+
     const Discretization &model;
     Log                  &log;
     dealii::TimerOutput  &timer;
@@ -247,6 +251,11 @@ namespace rotorfit
     unsigned int max_nev     = 0; ///< eigenvalues asked at the most tied state
     double       worst_backward_error = 0;
     bool         shift_warned         = false;
+    /// Per body: the share of its surface facing the circumferential
+    /// direction (RevolutionCheck); the warning at the first speed above 0
+    /// when a body is not one of revolution.
+    std::vector<double> circumferential_share;
+    bool                revolution_warned = false;
     unsigned int reduced_solves = 0, reduced_refusals = 0, reduced_trials = 0;
     /// speeds served by an undamped anchor, and those whose undamped anchor
     /// failed the checks (then solved in full)
