@@ -10,6 +10,7 @@
 #include <rotorfit/harmonic/harmonic_mode.h>
 #include <rotorfit/harmonic/harmonic_operators.h>
 #include <rotorfit/harmonic/harmonic_reduced_model.h>
+#include <rotorfit/harmonic/harmonic_response.h>
 #include <rotorfit/harmonic/harmonic_waves.h>
 #include <rotorfit/harmonic/meridian_model.h>
 #include <rotorfit/harmonic/meridian_output.h>
@@ -167,18 +168,6 @@ namespace rotorfit
                          const StaticState   &state,
                          const EigenSolution &solution);
 
-    /// The unbalances' force on harmonic @p k (harmonic 1) at Omega = 1
-    /// (the speed's is Omega^2 times it), complex, free numbering.
-    std::vector<std::complex<double>>
-    unbalance_load(const unsigned int k) const;
-
-    /// The unbalance response of harmonic @p k (harmonic 1) at @p state:
-    /// (K_t - Omega^2 M + i Omega C) U = F Omega^2, on harmonic 1's reduced
-    /// basis where it serves, else directly (UMFPACK's complex LU), read at
-    /// the probes.
-    ResponseAtSpeed
-    solve_response(const unsigned int k, const StaticState &state);
-
     /// The elastic modes of harmonic @p k (index into the list) at
     /// @p state.rpm on @p state's law: lowest first, at most Modes per
     /// harmonic; a degenerate pair turned into its two travelling waves.
@@ -212,7 +201,6 @@ namespace rotorfit
     /// the bearings' stations, then the unbalances' and the probes'
     std::vector<Station> stations;
     UnbalanceResponse   *response = nullptr;
-    double               worst_response_error = 0; ///< normwise backward error of the solves
 
     // settings
     std::vector<unsigned int> harmonics;
@@ -237,6 +225,7 @@ namespace rotorfit
 
     // dynamics
     std::unique_ptr<HarmonicOperators> operators; ///< made by start() (with modes)
+    std::unique_ptr<HarmonicResponse>  harmonic_response; ///< made by start() (modes, unbalances)
     /// the harmonics' matrices (none without modes)
     const std::vector<HarmonicAssembler::Harmonic> &
     harmonic_matrices() const
