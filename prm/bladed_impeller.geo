@@ -12,6 +12,16 @@
 SetFactory("OpenCASCADE");
 DefineConstant[ h_fit = 8.0e-3, h_max = 16.0e-3, h_blade = 5.0e-3,
                 n_blades = 8, t_blade = 5.0e-3 ];
+// fewer than 3 blades (or a fraction) make an unbalanced, laterally
+// anisotropic rotor, outside what the scene and its doc claim
+If (n_blades != Floor(n_blades) || n_blades < 0 || n_blades == 1 || n_blades == 2)
+  Error("bladed_impeller.geo: n_blades = %g; give 0 (the bladeless hub) or a whole number >= 3", n_blades);
+  Abort;
+EndIf
+If (t_blade <= 0)
+  Error("bladed_impeller.geo: t_blade = %g m; the blade thickness must be positive", t_blade);
+  Abort;
+EndIf
 R_s = 0.030; L = 0.800;
 e = 1e-6;
 

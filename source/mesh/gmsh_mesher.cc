@@ -103,10 +103,24 @@ namespace rotorfit
       }
     catch (...)
       {
+        // gmsh's own last error (a .geo's Error() says what is wrong), and
+        // the command that repeats the run with the same parameters
+        std::string last;
+        try
+          {
+            gmsh::logger::getLastError(last);
+          }
+        catch (...)
+          {
+          }
+        std::ostringstream command;
+        command << std::setprecision(12) << "gmsh -3";
+        for (const auto &[name, value] : geometry_parameters)
+          command << " -setnumber " << name << ' ' << value;
         gmsh::finalize();
-        throw InputError("Geometry/Geometry file '" + geometry_filename +
-                         "': gmsh failed; run 'gmsh -3 " + geometry_filename +
-                         "' to see its messages.");
+        throw InputError(gmsh_context + ": gmsh failed" +
+                         (last.empty() ? std::string() : ": " + last) + "; run '" + command.str() +
+                         " " + geometry_filename + "' to see all its messages.");
       }
     gmsh::finalize();
     if (data.volumes.empty())
