@@ -69,6 +69,7 @@ writes it).
       the harmonic model's rigid_modes.csv: the tied assembly's axial and
       torsional rigid motions at rest, BODY loose once the fit is open.
   check_modes.py refinement_modal EXE PRM OUT CYCLES REFERENCE TOL [SET ...]
+  check_modes.py fit_edge EXE PRM OUT EDGE REFERENCE TOL [SET ...]
       the harmonic model's meridian refined adaptively: harmonic 1's first
       mode at rest within TOL of REFERENCE after CYCLES cycles, closer than
       on cycle 0.
@@ -666,6 +667,31 @@ def check_refinement_modal(exe, prm, out, cycles, reference, tol, *sets):
     return 0 if good else 1
 
 
+def check_fit_edge(exe, prm, out, edge, reference, tol, *sets):
+    """The section mesher's grading towards the fits' edges (Geometry/Sections/
+    Fit edge element size = EDGE) on a joint whose corner is a stress
+    singularity (TS): harmonic 1's first mode at rest lies within TOL of
+    REFERENCE with it, and closer than on the same sizes without it."""
+    plain, graded = os.path.join(out, "plain"), os.path.join(out, "graded")
+    run_test.run(exe, prepare(prm, plain, list(sets)))
+    run_test.run(exe, prepare(prm, graded, list(sets) + ["Geometry/Sections/Fit edge element size=" + edge]))
+
+    def first(folder):
+        return min(float(r["frequency_hz"]) for r in at(rows(folder), 0.0) if r["harmonic"] == "1")
+
+    def dofs(folder):
+        return re.findall(r"Harmonic 1: (\d+) DoFs", open(os.path.join(folder, "log.txt")).read())[-1]
+
+    ref = float(reference)
+    e0 = (first(plain) - ref) / ref
+    e1 = (first(graded) - ref) / ref
+    good = abs(e1) <= float(tol) and abs(e1) < abs(e0)
+    print(f"harmonic 1, mode 1 at rest: {e0:+.3e} without grading ({dofs(plain)} DoFs), {e1:+.3e} "
+          f"with {edge} m at the fit's edges ({dofs(graded)} DoFs) against {ref} (within {tol} and "
+          f"closer) {'ok' if good else 'FAILED'}")
+    return 0 if good else 1
+
+
 def check_doublets(exe, prm, out, tol, *sets):
     """Rotational symmetry at rest on the harmonic model: every mode of a
     harmonic n >= 1 at 0 r/min is one of a doublet, written as its backward
@@ -1233,6 +1259,7 @@ if __name__ == "__main__":
               "torsion_crossing": check_torsion_crossing,
               "ring_symmetry": check_ring_symmetry, "study": check_study,
               "refinement": check_refinement, "refinement_modal": check_refinement_modal,
+              "fit_edge": check_fit_edge,
               "doublets": check_doublets, "rigid_rows": check_rigid_rows,
               "locking": check_locking, "asymmetry": check_asymmetry, "mpi": check_mpi, "failure": check_failure,
               "reduced": check_reduced, "reduced_fallback": check_reduced_fallback,

@@ -57,12 +57,14 @@ namespace rotorfit
                                const std::vector<double>                    &core_radius,
                                const std::vector<std::string>               &body_names,
                                const double                                  h_fit,
+                               const double                                  h_edge,
                                const double                                  h_max,
                                const SectionRefinement                      &refinement)
     : body_sections(sections)
     , core_radii(core_radius)
     , body_names(body_names)
     , h_fit(h_fit)
+    , h_edge(std::min(h_fit, h_edge))
     , h_max(h_max)
     , refinement(refinement)
   {
@@ -72,9 +74,9 @@ namespace rotorfit
   }
 
   double
-  SectionLayout::size_at(const double d_fit) const
+  SectionLayout::size_at(const double d_fit, const double d_edge) const
   {
-    return std::min(h_max, h_fit + grading * d_fit);
+    return std::min({h_max, h_fit + grading * d_fit, h_edge + grading * d_edge});
   }
 
   const AxialSection &
@@ -147,11 +149,23 @@ namespace rotorfit
                              breaks.end(),
                              [tol](double a, double b) { return b - a <= tol; }),
                  breaks.end());
+    // a fit's edges: the ends of its zones, less the planes where two zones
+    // of one fit meet (no corner there)
+    std::vector<double> edges;
+    for (const auto &[a, b] : zones)
+      for (const double e : {a, b})
+        if (std::none_of(zones.begin(), zones.end(), [&](const auto &o) {
+              return (e == a && std::abs(o.second - e) <= tol) ||
+                     (e == b && std::abs(o.first - e) <= tol);
+            }))
+          edges.push_back(e);
     const auto size = [&](const double z) {
-      double d = std::numeric_limits<double>::max();
+      double d = std::numeric_limits<double>::max(), d_edge = d;
       for (const auto &[a, b] : zones)
         d = std::min(d, std::max({0., a - z, z - b}));
-      return zones.empty() ? h_max : size_at(d);
+      for (const double e : edges)
+        d_edge = std::min(d_edge, std::abs(z - e));
+      return zones.empty() ? h_max : size_at(d, d_edge);
     };
     std::vector<double> z{breaks.front()};
     for (unsigned int i = 0; i + 1 < breaks.size(); ++i)
@@ -224,7 +238,8 @@ namespace rotorfit
             d_fit = std::min(d_fit, t - d);
           if (c.inner_fit)
             d_fit = std::min(d_fit, d);
-          return (c.outer_fit || c.inner_fit) ? size_at(d_fit) : h_max;
+          // (the layout is a tensor product: a fit's edge grades the whole chain radially)
+          return (c.outer_fit || c.inner_fit) ? size_at(d_fit, d_fit) : h_max;
         };
         for (const double d : graded_nodes(t, size))
           c.fractions.push_back(d / t);

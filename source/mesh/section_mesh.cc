@@ -59,6 +59,14 @@ namespace rotorfit
                       patterns::Positive(),
                       "Axial and radial element size at the fits [m]; sizes grow "
                       "from it by half the distance to the fit, up to Element size.");
+    prm.declare_entry("Fit edge element size",
+                      "0",
+                      Patterns::Double(0),
+                      "Element size at the fits' edges [m], where the bonded joint's "
+                      "corner makes the stress singular; sizes grow from it by half "
+                      "the distance to the edge (axially; radially by half the "
+                      "distance to the fit, the layout being a tensor product). "
+                      "0 or at least Fit element size: no grading of its own.");
     prm.declare_entry("Surfaces",
                       "",
                       Patterns::Anything(),
@@ -103,6 +111,8 @@ namespace rotorfit
                        "section has N/4 cells a side).");
     h_max         = prm.get_double("Element size");
     h_fit         = std::min(h_max, prm.get_double("Fit element size"));
+    h_edge        = prm.get_double("Fit edge element size");
+    h_edge        = h_edge > 0 ? std::min(h_fit, h_edge) : h_fit;
     surfaces_text = prm.get("Surfaces");
     prm.leave_subsection();
   }
@@ -303,7 +313,10 @@ namespace rotorfit
     std::ostringstream s;
     s << std::setprecision(3) << "Section mesh: " << n_theta << " cells around, "
       << z.size() - 1 << " axial layers, element size " << h_max * 1e3 << " mm, "
-      << h_fit * 1e3 << " mm at the " << zones.size() << " fit zone(s)\n";
+      << h_fit * 1e3 << " mm at the " << zones.size() << " fit zone(s)";
+    if (h_edge < h_fit)
+      s << ", " << h_edge * 1e3 << " mm at their edges";
+    s << "\n";
     for (unsigned int b = 0; b < sections.size(); ++b)
       {
         s << "  " << body_names[b] << ": " << sections[b].size() << " section(s), radial cells";
@@ -319,7 +332,7 @@ namespace rotorfit
   SectionLayout
   SectionMesh::plan() const
   {
-    return SectionLayout(sections, core_radius, body_names, h_fit, h_max, refinement);
+    return SectionLayout(sections, core_radius, body_names, h_fit, h_edge, h_max, refinement);
   }
 
   void

@@ -71,12 +71,15 @@ namespace rotorfit
     };
 
     /// The plan of @p sections (per body) with O-grid core radii
-    /// @p core_radius (0: a bore), element sizes @p h_fit at the fits and
-    /// @p h_max away from them [m], and the nodes of @p refinement.
+    /// @p core_radius (0: a bore), element sizes @p h_fit at the fits,
+    /// @p h_edge at the fits' edges (the bonded joint's corners; h_fit or
+    /// more: no grading of its own) and @p h_max away from them [m], and the
+    /// nodes of @p refinement.
     SectionLayout(const std::vector<std::vector<AxialSection>> &sections,
                   const std::vector<double>                    &core_radius,
                   const std::vector<std::string>               &body_names,
                   const double                                  h_fit,
+                  const double                                  h_edge,
                   const double                                  h_max,
                   const SectionRefinement                      &refinement);
 
@@ -136,13 +139,15 @@ namespace rotorfit
     void
     merge_step_radii(std::vector<Chain> &chains) const;
     /// Element size at a distance @p d_fit from the nearest fit [m].
+    /// Element size at distance @p d_fit from a fit and @p d_edge from a
+    /// fit's edge.
     double
-    size_at(const double d_fit) const;
+    size_at(const double d_fit, const double d_edge) const;
 
     const std::vector<std::vector<AxialSection>> &body_sections;
     const std::vector<double>                    &core_radii;
     const std::vector<std::string>               &body_names;
-    const double                                  h_fit, h_max;
+    const double                                  h_fit, h_edge, h_max;
     const SectionRefinement                      &refinement;
 
     std::vector<std::pair<double, double>> zones;

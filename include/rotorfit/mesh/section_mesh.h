@@ -174,6 +174,7 @@ namespace rotorfit
     unsigned int                                  n_theta = 24;
     double                                        h_max   = 8e-3;
     double                                        h_fit   = 4e-3;
+    double                                        h_edge  = 4e-3;
     std::vector<std::string>                      body_names;
     std::vector<std::vector<Section>>             sections;
     std::vector<double>                           core_radius;
