@@ -29,18 +29,21 @@ namespace rotorfit
     }
   } // namespace
 
-  FitAssessment::FitAssessment(const Discretization &model)
-    : model(model)
+  FitAssessment::FitAssessment(const ContactPairs &pairs, const ContactInterfaces &interfaces,
+                               const Bodies &bodies)
+    : pairs(pairs)
+    , interfaces(interfaces)
+    , bodies(bodies)
   {}
 
   void
-  FitAssessment::initialize()
+  FitAssessment::initialize(std::unique_ptr<StressField> field)
   {
-    stress.emplace(model);
+    stress = std::move(field);
     first = true;
     first_rows.clear();
     slip_rpm.clear();
-    const unsigned int n_f = model.pairs().n_interfaces();
+    const unsigned int n_f = pairs.n_interfaces();
     last_w.assign(n_f, 0.);
     last_force.assign(n_f, 0.);
     last_moment.assign(n_f, 0.);
@@ -49,14 +52,14 @@ namespace rotorfit
     least_safety_rpm.assign(n_f, nan);
     worst_hub_bore.assign(n_f, 0.);
     worst_shaft_bore.assign(n_f, 0.);
-    worst_body.resize(model.bodies().size());
-    worst_body_rpm.assign(model.bodies().size(), nan);
+    worst_body.assign(bodies.size(), BodyStressRow());
+    worst_body_rpm.assign(bodies.size(), nan);
   }
 
   double
   FitAssessment::slip_safety(const unsigned int f, const double force, const double moment) const
   {
-    const auto  &spec = model.interfaces().list()[f].fit;
+    const auto  &spec = interfaces.list()[f].fit;
     const double mu   = spec.friction().value_or(0.);
     const double T = spec.torque_load(), A = spec.axial_load();
     if (T == 0 && A == 0)
@@ -92,10 +95,8 @@ namespace rotorfit
   void
   FitAssessment::record(StaticState &state, const PETScWrappers::MPI::Vector &u)
   {
-    const auto        &pairs  = model.pairs();
-    const auto        &list   = pairs.pairs();
-    const auto        &bodies = model.bodies();
-    const unsigned int n_f    = pairs.n_interfaces();
+    const auto        &list = pairs.pairs();
+    const unsigned int n_f  = pairs.n_interfaces();
     const double       w      = state.w();
 
     std::vector<double> force(n_f, 0.), moment(n_f, 0.), delta(n_f, 0.);
@@ -117,10 +118,10 @@ namespace rotorfit
     state.fits.clear();
     for (unsigned int f = 0; f < n_f; ++f)
       {
-        const auto &spec = model.interfaces().list()[f].fit;
+        const auto &spec = interfaces.list()[f].fit;
         const auto &g    = pairs.geometry(f);
         FitRow      row;
-        row.name                = model.interfaces().list()[f].name;
+        row.name                = interfaces.list()[f].name;
         row.radial_interference = delta[f];
         row.mean_pressure       = state.interfaces[f].mean_pressure;
         row.edge_peak_ratio     = row.mean_pressure > 0 ?
@@ -193,9 +194,9 @@ namespace rotorfit
       {
         const auto &g   = pairs.geometry(f);
         const double z  = 0.5 * (g.z_min + g.z_max);
-        const auto   on = [&](const unsigned int body, const BodyStress::BoreStress &bore) {
+        const auto   on = [&](const unsigned int body, const StressField::BoreStress &bore) {
           if (bore.von_mises > peaks[body].von_mises)
-            peaks[body] = BodyStress::Peak{bore.von_mises, Point<3>(bore.radius, 0., z)};
+            peaks[body] = StressField::Peak{bore.von_mises, Point<3>(bore.radius, 0., z)};
         };
         on(g.hub_body, bores[f].hub);
         on(g.shaft_body, bores[f].shaft);
@@ -223,11 +224,9 @@ namespace rotorfit
   void
   FitAssessment::add_to_summary(Summary &summary) const
   {
-    const auto &pairs  = model.pairs();
-    const auto &bodies = model.bodies();
     for (unsigned int f = 0; f < pairs.n_interfaces(); ++f)
       {
-        const auto       &def = model.interfaces().list()[f];
+        const auto       &def = interfaces.list()[f];
         const auto       &g   = pairs.geometry(f);
         const std::string key = "interface." + def.name + ".";
         summary.add(key + "fit_given", def.fit.describe());
@@ -238,7 +237,7 @@ namespace rotorfit
         if (hub.expansion)
           summary.add(key + "mounting_temperature_C",
                       def.fit.mounting_temperature(g.diameter, *hub.expansion,
-                                                   model.interfaces().reference_temperature()));
+                                                   interfaces.reference_temperature()));
         if (!first_rows.empty())
           {
             const FitRow &r = first_rows[f];

@@ -2,6 +2,7 @@
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/eigen/backward_error.h>
 #include <rotorfit/harmonic/harmonic_problem.h>
+#include <rotorfit/harmonic/meridian_stress.h>
 #include <rotorfit/modal/line_root.h>
 #include <rotorfit/statics/speed_schedule.h>
 
@@ -190,6 +191,9 @@ namespace rotorfit
                         comm},
                        w_max);
     history = std::make_unique<FitHistory>(meridian.pairs(), *interfaces, log);
+    assessment =
+      std::make_unique<FitAssessment>(meridian.pairs(), *interfaces, meridian.bodies());
+    assessment->initialize(std::make_unique<MeridianStress>(meridian));
     // the swept mesh: at least 8 sectors per wave of the highest harmonic
     paraview = std::make_unique<MeridianOutput>(
       meridian, directory,
@@ -202,6 +206,9 @@ namespace rotorfit
     opening_table.open(directory);
     if (contact.path() == ContactSolver::Path::exact)
       event_table.open(directory);
+    if (!meridian.pairs().pairs().empty())
+      fit_table.open(directory);
+    body_stress_table.open(directory);
     if (compute_modes)
       {
         campbell_table.open(directory);
@@ -223,13 +230,19 @@ namespace rotorfit
         throw SolverFailure(rpm, "the static solve at " + format_number(rpm) +
                             " r/min gave a pair force that is not a number");
     history->record(state, state.decomposition(), contact.constraint_error_limit());
+    PETScWrappers::MPI::Vector u;
+    state.displacement(u);
+    {
+      TimerOutput::Scope t(timer, "fit assessment (capacity, stresses)");
+      assessment->record(state, u);
+    }
     contact_table.add(state);
     opening_table.add(state);
     event_table.add(state);
+    fit_table.add(state);
+    body_stress_table.add(state);
     if (files.solution || indicators)
       {
-        PETScWrappers::MPI::Vector u;
-        state.displacement(u);
         if (indicators)
           indicators->add_meridian_static(meridian, Vector<double>(u));
         if (files.solution)
@@ -660,6 +673,8 @@ namespace rotorfit
       }
     if (history)
       history->add_to_summary(summary);
+    if (assessment)
+      assessment->add_to_summary(summary);
     summary.add("harmonic.meridian_cells", meridian.triangulation().n_active_cells());
     summary.add("harmonic.nodes", meridian.nodes().size());
     std::string list;

@@ -99,17 +99,6 @@ namespace rotorfit
     if (harmonic)
       {
         harmonic->setup(model, eigen.bearing_list(), response);
-        // the fit designer's checks are 3D-only yet: say so where they are asked for
-        bool asked = false;
-        for (const auto &f : model.interfaces().list())
-          asked |= f.fit.friction().has_value();
-        for (const auto &b : model.bodies().list())
-          asked |= b.yield_strength.has_value();
-        if (asked)
-          log << "Warning: Geometry/Model = axisymmetric does not assess the fit yet: no "
-                 "fit.csv and body_stress.csv, no friction capacity, slip speed, bore stresses "
-                 "or yield safety (Friction coefficient and Yield strength are set; Geometry/Model "
-                 "= 3d computes them, doc/fit_design.md).\n";
         return;
       }
     model.setup(timer);

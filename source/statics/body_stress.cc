@@ -22,9 +22,6 @@ namespace rotorfit
 
   namespace
   {
-    /// Points nudged into a body: 1e-6 of the fit radius (far below any
-    /// cell, far above round-off).
-    constexpr double nudge = 1e-6;
     constexpr unsigned int n_angles = 8;
 
     SymmetricTensor<2, 3>
@@ -81,51 +78,16 @@ namespace rotorfit
       return y;
     }
 
-    /// a before b: larger stress, then the lexicographically smaller point
-    bool
-    before(const double a, const Point<3> &pa, const double b, const Point<3> &pb)
-    {
-      if (a != b)
-        return a > b;
-      return std::lexicographical_compare(pa.begin_raw(), pa.end_raw(), pb.begin_raw(), pb.end_raw());
-    }
   } // namespace
 
   BodyStress::BodyStress(const Discretization &model)
     : model(model)
   {
-    const auto &pairs = model.pairs();
-    const auto &list  = pairs.pairs();
-    for (unsigned int f = 0; f < pairs.n_interfaces(); ++f)
+    find_fits(model.pairs());
+    for (unsigned int f = 0; f < fit_list.size(); ++f)
       {
-        Fit fit;
-        fit.shaft_body = pairs.bodies(f)[0];
-        fit.hub_body   = pairs.bodies(f)[1];
-        fit.z_min      = std::numeric_limits<double>::max();
-        fit.z_max      = -fit.z_min;
-        for (const auto p : pairs.pairs_of(f))
-          {
-            const Point<3> &x = list[p].position;
-            fit.z_min         = std::min(fit.z_min, x[2]);
-            fit.z_max         = std::max(fit.z_max, x[2]);
-            fit.radius += std::hypot(x[0], x[1]);
-          }
-        fit.radius /= pairs.pairs_of(f).size();
-        const double z = fit.z_mid();
-        // the traction of the hub's bore at the mid-plane: the mean pressure
-        // of a ring of pairs there (one pair's pressure oscillates between
-        // the vertex and edge nodes of quadratic elements), at least the
-        // ring nearest to the mid-plane, at most an eighth of the fit's length
-        double nearest = std::numeric_limits<double>::max();
-        for (const auto p : pairs.pairs_of(f))
-          nearest = std::min(nearest, std::abs(list[p].position[2] - z));
-        const double band = std::max(0.125 * (fit.z_max - fit.z_min), nearest * (1 + 1e-9) + 1e-12);
-        std::vector<unsigned int> ring_pairs;
-        for (const auto p : pairs.pairs_of(f))
-          if (std::abs(list[p].position[2] - z) <= band)
-            ring_pairs.push_back(p);
-        ring.push_back(ring_pairs);
-
+        Fit         &fit = fit_list[f];
+        const double z   = fit.z_mid();
         // shaft: solid if the axis at z_mid is inside it; else its bore is
         // the smallest vertex radius of its cells that span z_mid
         double distance = 0;
@@ -172,7 +134,6 @@ namespace rotorfit
                 bore_points[side].push_back(b);
               }
           }
-        fit_list.push_back(fit);
         points.push_back(bore_points);
       }
   }
@@ -252,19 +213,11 @@ namespace rotorfit
             else
               {
                 // the strains along the surface and its traction (see bore())
-                const SymmetricTensor<2, 3> eps  = symmetrize(grad[0]);
-                const double                e_tt = e_t * (eps * e_t), e_zz = e_z * (eps * e_z);
-                const double                e_tz = e_t * (eps * e_z);
-                const double                lambda = body.lambda(), mu = body.mu();
-                const double s_r  = b.pair >= 0 ? -ring_pressure : 0.;
-                const double e_rr = (s_r - lambda * (e_tt + e_zz)) / (lambda + 2 * mu);
-                const double tr   = e_rr + e_tt + e_zz;
-                const double s_t  = lambda * tr + 2 * mu * e_tt;
-                const double s_z  = lambda * tr + 2 * mu * e_zz;
-                const double t_tz = 2 * mu * e_tz;
-                const double vm   = std::sqrt(s_r * s_r + s_t * s_t + s_z * s_z - s_r * s_t -
-                                            s_t * s_z - s_z * s_r + 3 * t_tz * t_tz);
-                v = {{s_r, s_t, s_z, vm}};
+                const SymmetricTensor<2, 3> eps = symmetrize(grad[0]);
+                const BoreStress            s   = surface_stress(
+                  e_t * (eps * e_t), e_z * (eps * e_z), e_t * (eps * e_z),
+                  b.pair >= 0 ? -ring_pressure : 0., body.lambda(), body.mu());
+                v = {{s.sigma_r, s.sigma_t, s.sigma_z, s.von_mises}};
               }
           }
         values.insert(values.end(), v.begin(), v.end());
@@ -280,9 +233,7 @@ namespace rotorfit
     std::vector<double> values;
     for (unsigned int f = 0; f < points.size(); ++f)
       {
-        double p = 0;
-        for (const auto i : ring[f])
-          p += pair_pressure[i] / ring[f].size();
+        const double p = ring_pressure(f, pair_pressure);
         for (const auto &side : points[f])
           evaluate(side, u, p, values);
       }

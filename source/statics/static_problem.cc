@@ -2,6 +2,7 @@
 #include <rotorfit/base/resources.h>
 #include <rotorfit/linear_algebra/matrix_pattern.h>
 #include <rotorfit/material/elasticity.h>
+#include <rotorfit/statics/body_stress.h>
 #include <rotorfit/statics/speed_schedule.h>
 #include <rotorfit/statics/static_problem.h>
 
@@ -27,7 +28,7 @@ namespace rotorfit
     , timer(timer)
     , comm(model.mpi_communicator())
     , history(model.pairs(), model.interfaces(), log)
-    , assessment(model)
+    , assessment(model.pairs(), model.interfaces(), model.bodies())
   {}
 
   void
@@ -64,7 +65,7 @@ namespace rotorfit
       assemble_system();
     }
     ahead.clear();
-    assessment.initialize();
+    assessment.initialize(std::make_unique<BodyStress>(model));
     contact.initialize({model.pairs(),
                         model.static_constraints(),
                         stiffness,

@@ -2,13 +2,14 @@
 
 #include <rotorfit/base/log.h>
 #include <rotorfit/base/summary.h>
-#include <rotorfit/model/discretization.h>
-#include <rotorfit/statics/body_stress.h>
+#include <rotorfit/contact/contact_pairs.h>
+#include <rotorfit/material/bodies.h>
+#include <rotorfit/statics/stress_field.h>
 #include <rotorfit/statics/static_state.h>
 
 #include <deal.II/lac/petsc_vector.h>
 
-#include <optional>
+#include <memory>
 #include <vector>
 
 namespace rotorfit
@@ -29,11 +30,15 @@ namespace rotorfit
   class FitAssessment
   {
   public:
-    explicit FitAssessment(const Discretization &model);
+    /// The fits of @p pairs (their specifications in @p interfaces) and the
+    /// bodies' yield strengths: any model's, 3D or meridian.
+    FitAssessment(const ContactPairs &pairs, const ContactInterfaces &interfaces,
+                  const Bodies &bodies);
 
-    /// After the model's setup(): size the records, locate the bore points.
+    /// After the model's setup(): size the records; @p field evaluates the
+    /// model's stresses (it located the bore points).
     void
-    initialize();
+    initialize(std::unique_ptr<StressField> field);
 
     /// Fill state.fits and state.body_stresses; @p u: the displacement at
     /// the state's speed, ghosted.
@@ -58,8 +63,10 @@ namespace rotorfit
     slip_w(const unsigned int f, const double w0, const double F0, const double M0,
            const double w1, const double F1, const double M1) const;
 
-    const Discretization &model;
-    std::optional<BodyStress> stress;
+    const ContactPairs          &pairs;
+    const ContactInterfaces     &interfaces;
+    const Bodies                &bodies;
+    std::unique_ptr<StressField> stress;
 
     /// per interface, at the last recorded speed: Omega^2 and resultants
     std::vector<double> last_w, last_force, last_moment;

@@ -6,6 +6,7 @@
 #include <rotorfit/contact/contact_solver.h>
 #include <rotorfit/eigen/damped_eigensolver.h>
 #include <rotorfit/eigen/speed_eigenproblem.h>
+#include <rotorfit/fit/fit_assessment.h>
 #include <rotorfit/harmonic/harmonic_assembler.h>
 #include <rotorfit/harmonic/harmonic_mode.h>
 #include <rotorfit/harmonic/harmonic_operators.h>
@@ -216,6 +217,7 @@ namespace rotorfit
     HarmonicAssembler::StaticSystem system;
     ContactSolver                   contact;
     std::unique_ptr<FitHistory>     history; ///< made by start(): it needs the pairs
+    std::unique_ptr<FitAssessment>  assessment; ///< made by start(): it needs the pairs
     std::unique_ptr<MeridianOutput> paraview; ///< made by start()
     ParaViewFiles                   files_now;  ///< of the speed being solved
     MeshRefinement                 *indicators = nullptr;
@@ -258,6 +260,8 @@ namespace rotorfit
     ContactTable          contact_table;
     PairOpeningTable      opening_table;
     ContactEventTable     event_table;
+    FitTable              fit_table;
+    BodyStressTable       body_stress_table;
     HarmonicCampbellTable campbell_table;
     CriticalSpeedTable    critical_table;
     RigidModeTable        rigid_table;

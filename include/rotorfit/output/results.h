@@ -123,7 +123,7 @@ namespace rotorfit
     draw_harmonic_tables(const bool contact, const bool response)
     {
       with_contact  = contact;
-      with_fit      = false;
+      with_fit      = contact;
       with_response = response;
     }
 

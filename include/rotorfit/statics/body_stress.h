@@ -1,5 +1,7 @@
 #pragma once
 
+#include <rotorfit/statics/stress_field.h>
+
 #include <deal.II/base/point.h>
 
 #include <deal.II/dofs/dof_handler.h>
@@ -41,57 +43,12 @@ namespace rotorfit
    * the ranks: the results are identical on every rank and need only the
    * ghosts of the owned cells.
    */
-  class BodyStress
+  class BodyStress : public StressField
   {
   public:
-    /// The largest von Mises stress of a body and where it is.
-    struct Peak
-    {
-      double           von_mises = 0; ///< [Pa]
-      dealii::Point<3> location;      ///< quadrature point [m]
-    };
-
-    /// Nominal stress at a bore: means over 8 angles [Pa], at @p radius.
-    struct BoreStress
-    {
-      double radius    = 0; ///< [m]; 0: the axis of a solid shaft
-      double sigma_r   = 0; ///< radial [Pa]
-      double sigma_t   = 0; ///< hoop (circumferential) [Pa]
-      double sigma_z   = 0; ///< axial [Pa]
-      double von_mises = 0; ///< mean of the points' von Mises stresses [Pa]
-    };
-
-    /// Both bores of one fit interface.
-    struct FitBore
-    {
-      BoreStress hub, shaft;
-    };
-
-    /// One fit interface as the bore evaluation sees it.
-    struct Fit
-    {
-      unsigned int hub_body = 0, shaft_body = 0; ///< body indices
-      double       z_min = 0, z_max = 0;         ///< axial extent of the pairs [m]
-      double       radius = 0;                   ///< mean radius of the pairs [m]
-      double       shaft_bore = 0;               ///< shaft's innermost radius at z_mid, 0: solid [m]
-
-      /// Axial mid-plane [m].
-      double
-      z_mid() const
-      {
-        return 0.5 * (z_min + z_max);
-      }
-    };
-
     /// Finds the fits' bodies, extents and bore points (all ranks alike).
     explicit BodyStress(const Discretization &model);
 
-    /// One per interface, in the order of Discretization::interfaces().
-    const std::vector<Fit> &
-    fits() const
-    {
-      return fit_list;
-    }
 
     /**
      * Per body, the largest von Mises stress over the cell quadrature points
@@ -100,7 +57,7 @@ namespace rotorfit
      * origin. MPI-collective; @p u needs the ghosts of the owned cells.
      */
     std::vector<Peak>
-    max_von_mises(const dealii::PETScWrappers::MPI::Vector &u) const;
+    max_von_mises(const dealii::PETScWrappers::MPI::Vector &u) const override;
 
     /**
      * Per interface, the nominal hub and shaft bore stresses at the fit's
@@ -121,7 +78,7 @@ namespace rotorfit
      */
     std::vector<FitBore>
     bore(const dealii::PETScWrappers::MPI::Vector &u,
-         const std::vector<double>                &pair_pressure) const;
+         const std::vector<double>                &pair_pressure) const override;
 
   private:
     /// A point of a bore, located in a cell of its body.
@@ -153,10 +110,7 @@ namespace rotorfit
              std::vector<double>                      &values) const;
 
     const Discretization &model;
-    std::vector<Fit>     fit_list;
     /// per interface: the 8 points of the hub [0] and of the shaft [1]
     std::vector<std::array<std::vector<BorePoint>, 2>> points;
-    /// per interface: the pairs of the mid-plane ring
-    std::vector<std::vector<unsigned int>> ring;
   };
 } // namespace rotorfit
