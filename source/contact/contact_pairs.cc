@@ -1,4 +1,5 @@
 #include <rotorfit/base/dof_utilities.h>
+#include <rotorfit/base/format.h>
 #include <rotorfit/base/input_error.h>
 #include <rotorfit/base/patterns.h>
 #include <rotorfit/contact/contact_pairs.h>
@@ -555,5 +556,26 @@ namespace rotorfit
           p[s.pairs[k]] = sol[k];
       }
     return p;
+  }
+
+  std::string
+  describe_interference(const ContactInterfaces &interfaces, const ContactPairs &pairs,
+                        const unsigned int i)
+  {
+    const auto &fit = interfaces.list()[i].fit;
+    const auto &g   = pairs.geometry(i);
+    return (fit.toleranced() ?
+              fit.describe() + " at " + format_number(g.diameter * 1e3) + " mm (" +
+                (interfaces.interference_case() == FitSpecification::Case::smallest ? "smallest" :
+                                                                                       "largest") +
+                " interference, smoothed), " :
+              std::string()) +
+           "radial interference " + [&] {
+             std::ostringstream o; // the stream's default 6 digits, as the log's
+             o << g.radial_interference * 1e6;
+             return o.str();
+           }() + " um" +
+           (g.thermal_shift != 0 ? ", " + format_number(g.thermal_shift * 1e6) + " um by the temperatures" :
+                                   std::string());
   }
 } // namespace rotorfit

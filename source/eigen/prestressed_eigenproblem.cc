@@ -159,6 +159,23 @@ namespace rotorfit
             << " % of its surface faces the circumferential direction: not a body of "
                "revolution; the stationary frame holds above 0 r/min only for the modes that "
                "move it rigidly (doc/bladed_impeller.md)\n";
+    inertia = RevolutionCheck::transverse_inertia(model.mesh(), dof_handler, model.bodies().size(),
+                                                  dof_handler.get_communicator());
+    for (unsigned int b = 0; b < inertia.size(); ++b)
+      {
+        const auto &i = inertia[b];
+        if (i.anisotropy > RevolutionCheck::anisotropy_limit)
+          log << "Body " << model.bodies()[b].name << ": its second moments about the axis are "
+              << "anisotropic (" << i.anisotropy
+              << " = |J_xx - J_yy, 2 J_xy| / (J_xx + J_yy): a flat, a keyway, one or two "
+                 "blades, an elliptic section); the stationary frame holds above 0 r/min for "
+                 "none of its modes, the whirl included (doc/theory.md 4.1)\n";
+        if (i.offset > RevolutionCheck::offset_limit * i.gyration)
+          log << "Body " << model.bodies()[b].name << ": its centroid lies " << i.offset * 1e3
+              << " mm off the axis: a static unbalance of "
+              << model.bodies()[b].density * i.volume * i.offset
+              << " kg m that the Unbalances do not include and the eigenproblem does not see\n";
+      }
 
     // more modes than the model has
     std::vector<bool>  loose;
@@ -227,7 +244,13 @@ namespace rotorfit
     solution.rpm   = state.rpm;
     solution.index = state.index;
     solution.tied  = tangent.tied_pairs(state);
-    solution.isotropic_supports = bearings.isotropic(state.rpm);
+    // an anisotropic rotor has no doublets at rest and excites its
+    // backward lines as well, like anisotropic bearings
+    solution.isotropic_supports =
+      bearings.isotropic(state.rpm) &&
+      std::all_of(inertia.begin(), inertia.end(), [](const RevolutionCheck::Inertia &i) {
+        return i.anisotropy <= RevolutionCheck::anisotropy_limit;
+      });
     if (state.rpm > 0)
       warn_not_of_revolution(state.rpm);
     tangent.assemble(state, solution.tied, speeds_done == 0);
@@ -476,6 +499,16 @@ namespace rotorfit
       }
     if (!circumferential_share.empty())
       summary.add("eigen.rotor_of_revolution", of_revolution ? 1 : 0);
+    bool isotropic = true;
+    for (unsigned int b = 0; b < inertia.size(); ++b)
+      {
+        summary.add("body." + model.bodies()[b].name + ".transverse_anisotropy",
+                    inertia[b].anisotropy);
+        summary.add("body." + model.bodies()[b].name + ".centroid_offset_m", inertia[b].offset);
+        isotropic = isotropic && inertia[b].anisotropy <= RevolutionCheck::anisotropy_limit;
+      }
+    if (!inertia.empty())
+      summary.add("eigen.rotor_isotropic", isotropic ? 1 : 0);
     if (!compute || speeds_done == 0)
       return;
     for (const auto &[key, value] : self_checks.results())
@@ -528,8 +561,16 @@ namespace rotorfit
     if (revolution_warned)
       return;
     revolution_warned = true;
+    for (unsigned int b = 0; b < inertia.size(); ++b)
+      if (inertia[b].anisotropy > RevolutionCheck::anisotropy_limit)
+        log << "Warning: body " << model.bodies()[b].name << " is anisotropic about the axis "
+            << "(second moments " << inertia[b].anisotropy
+            << "): in the stationary frame (doc/theory.md 4.1) such a rotor is parametrically "
+               "excited, and no mode of it, the whirl included, is a mode of this eigenproblem "
+               "from " << rpm << " r/min on.\n";
     for (unsigned int b = 0; b < circumferential_share.size(); ++b)
-      if (circumferential_share[b] > RevolutionCheck::limit)
+      if (circumferential_share[b] > RevolutionCheck::limit &&
+          !(b < inertia.size() && inertia[b].anisotropy > RevolutionCheck::anisotropy_limit))
         log << "Warning: body " << model.bodies()[b].name << " is not a body of revolution ("
             << 100 * circumferential_share[b]
             << " % of its surface faces the circumferential direction: blades, keys, flats). "

@@ -7,6 +7,7 @@
 
 #include <functional>
 #include <iomanip>
+#include <sstream>
 
 namespace rotorfit
 {
@@ -99,9 +100,12 @@ namespace rotorfit
     values.emplace_back("check.tilt_virial", s_tilt / (w * yy));
     values.emplace_back("check.twist_virial", s_twist / (w * t_twist));
     values.emplace_back("check.tilt_cancellation", (s_tilt - w * t_tilt) / (w * t_tilt));
-    log << "  self-check at " << state.rpm << " r/min: w^T K_sigma w / (Omega^2 int rho y^2) = "
-        << std::setprecision(12) << values[1].second << " (tilt), "
-        << values[2].second << " (twist, against Omega^2 w^T K_theta w); tilt "
-        << "cancellation error " << std::setprecision(3) << values[3].second << '\n';
+    // formatted apart: the precisions must not stay on the log's streams
+    std::ostringstream line;
+    line << "  self-check at " << state.rpm << " r/min: w^T K_sigma w / (Omega^2 int rho y^2) = "
+         << std::setprecision(12) << values[1].second << " (tilt), " << values[2].second
+         << " (twist, against Omega^2 w^T K_theta w); tilt "
+         << "cancellation error " << std::setprecision(3) << values[3].second << '\n';
+    log << line.str();
   }
 } // namespace rotorfit

@@ -131,10 +131,11 @@ namespace rotorfit
     std::ostringstream s;
     s << "Meridian mesh: " << tria.n_active_cells() << " quadrilaterals, " << node_dofs.size()
       << " nodes, element order " << order << "\n";
+    s << sections.describe(true);
     for (unsigned int i = 0; i < contact_pairs.n_interfaces(); ++i)
       s << "Interface " << interfaces.list()[i].name << ": " << contact_pairs.pairs_of(i).size()
-        << " ring pairs, area " << contact_pairs.area(i) * 1e6 << " mm^2, radial interference "
-        << contact_pairs.geometry(i).radial_interference * 1e6 << " um\n";
+        << " ring pairs, area " << contact_pairs.area(i) * 1e6 << " mm^2, "
+        << describe_interference(interfaces, contact_pairs, i) << "\n";
     log << s.str();
   }
 

@@ -49,4 +49,49 @@ namespace rotorfit
       }
     return share;
   }
+
+  std::vector<RevolutionCheck::Inertia>
+  RevolutionCheck::transverse_inertia(const AssemblyMesh  &mesh,
+                                      const DoFHandler<3> &dofs,
+                                      const unsigned int   n_bodies,
+                                      const MPI_Comm       comm)
+  {
+    // per body: V, int x, int y, J_xx, J_yy, J_xy
+    std::vector<double> m(6 * n_bodies, 0.);
+    const auto         &rule = mesh.cell_quadrature();
+    FEValues<3> fe_values(mesh.mapping(), dofs.get_fe(), rule,
+                          update_quadrature_points | update_JxW_values);
+    for (const auto &cell : dofs.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          fe_values.reinit(cell);
+          double *b = &m[6 * cell->material_id()];
+          for (unsigned int q = 0; q < rule.size(); ++q)
+            {
+              const Point<3> &x = fe_values.quadrature_point(q);
+              const double    w = fe_values.JxW(q);
+              b[0] += w;
+              b[1] += w * x[0];
+              b[2] += w * x[1];
+              b[3] += w * x[0] * x[0];
+              b[4] += w * x[1] * x[1];
+              b[5] += w * x[0] * x[1];
+            }
+        }
+    Utilities::MPI::sum(m, comm, m);
+    std::vector<Inertia> result(n_bodies);
+    for (unsigned int k = 0; k < n_bodies; ++k)
+      {
+        const double *b = &m[6 * k];
+        if (!(b[0] > 0))
+          continue;
+        // about the axis, not the centroid: the whirl turns the body about z
+        const double jxx = b[3], jyy = b[4], jxy = b[5];
+        result[k].volume     = b[0];
+        result[k].offset     = std::hypot(b[1], b[2]) / b[0];
+        result[k].gyration   = std::sqrt((jxx + jyy) / b[0]);
+        result[k].anisotropy = jxx + jyy > 0 ? std::hypot(jxx - jyy, 2 * jxy) / (jxx + jyy) : 0.;
+      }
+    return result;
+  }
 } // namespace rotorfit

@@ -306,16 +306,25 @@ namespace rotorfit
                 required.push_back(((1 - s) * ao + s * oo - a) / t);
             }
           std::sort(required.begin(), required.end());
-          const double spacing = 1. / std::max<std::size_t>(1, c.fractions.size() - 1);
+          // the neighbours' radii, without the chain's own ends
+          std::vector<double> steps;
+          for (const double r : required)
+            if (r > 1e-12 && r < 1 - 1e-12)
+              steps.push_back(r);
           std::vector<double> merged = required;
           merged.insert(merged.end(), c.added.begin(), c.added.end());
-          for (const double s : c.fractions)
+          // an own node gives way to a step radius closer than 0.4 of the
+          // mean spacing (no sliver); the ends are the chain's own, so a
+          // node graded towards a fit at an end stays
+          const double spacing = 1. / std::max<std::size_t>(1, c.fractions.size() - 1);
+          for (unsigned int k = 1; k + 1 < c.fractions.size(); ++k)
             {
-              const auto   it = std::lower_bound(required.begin(), required.end(), s);
-              double       d  = std::numeric_limits<double>::max();
-              if (it != required.end())
+              const double s  = c.fractions[k];
+              const auto   it = std::lower_bound(steps.begin(), steps.end(), s);
+              double       d       = std::numeric_limits<double>::max();
+              if (it != steps.end())
                 d = *it - s;
-              if (it != required.begin())
+              if (it != steps.begin())
                 d = std::min(d, s - *(it - 1));
               if (d > 0.4 * spacing)
                 merged.push_back(s);

@@ -65,7 +65,9 @@ namespace rotorfit
                       "Element size at the fits' edges [m], where the bonded joint's "
                       "corner makes the stress singular; sizes grow from it by half "
                       "the distance to the edge (axially; radially by half the "
-                      "distance to the fit, the layout being a tensor product). "
+                      "distance to the fit, the layout being a tensor product); the "
+                      "cells are whole numbers of that size function, so the first "
+                      "one is up to about 1.3 x it. At least 1/1000 of Element size; "
                       "0 or at least Fit element size: no grading of its own.");
     prm.declare_entry("Surfaces",
                       "",
@@ -112,6 +114,16 @@ namespace rotorfit
     h_max         = prm.get_double("Element size");
     h_fit         = std::min(h_max, prm.get_double("Fit element size"));
     h_edge        = prm.get_double("Fit edge element size");
+    if (h_edge > 0 && h_edge < 1e-3 * h_max)
+      {
+        std::ostringstream m;
+        m << "Geometry/Sections/Fit edge element size = " << h_edge
+          << " m is below a thousandth of Element size (" << h_max
+          << " m): the plan's layers would reach aspect ratios above 1,000 and its size "
+             "integration cannot place such cells; set at least "
+          << 1e-3 * h_max << " m, or 0 for no grading at the fits' edges.";
+        throw InputError(m.str());
+      }
     h_edge        = h_edge > 0 ? std::min(h_fit, h_edge) : h_fit;
     surfaces_text = prm.get("Surfaces");
     prm.leave_subsection();
@@ -304,15 +316,19 @@ namespace rotorfit
   }
 
   std::string
-  SectionMesh::describe() const
+  SectionMesh::describe(const bool meridian) const
   {
     const SectionLayout layout = plan();
     const auto         &zones  = layout.fit_zones();
     const auto         &z      = layout.axial_nodes();
     const auto         &chains = layout.chains();
     std::ostringstream s;
-    s << std::setprecision(3) << "Section mesh: " << n_theta << " cells around, "
-      << z.size() - 1 << " axial layers, element size " << h_max * 1e3 << " mm, "
+    s << std::setprecision(3);
+    if (meridian)
+      s << "Meridian plan: ";
+    else
+      s << "Section mesh: " << n_theta << " cells around, ";
+    s << z.size() - 1 << " axial layers, element size " << h_max * 1e3 << " mm, "
       << h_fit * 1e3 << " mm at the " << zones.size() << " fit zone(s)";
     if (h_edge < h_fit)
       s << ", " << h_edge * 1e3 << " mm at their edges";

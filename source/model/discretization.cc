@@ -147,20 +147,7 @@ namespace rotorfit
       log << "Interface " << interface_list.list()[i].name << ": "
           << contact_pairs.pairs_of(i).size() << " node pairs, area "
           << contact_pairs.area(i) * 1e6 << " mm^2, "
-          << (interface_list.list()[i].fit.toleranced() ?
-                interface_list.list()[i].fit.describe() + " at " +
-                  format_number(contact_pairs.geometry(i).diameter * 1e3) + " mm (" +
-                  (interface_list.interference_case() == FitSpecification::Case::smallest ?
-                     "smallest" :
-                     "largest") +
-                  " interference, smoothed), " :
-                std::string())
-          << "radial interference " << contact_pairs.geometry(i).radial_interference * 1e6
-          << " um"
-          << (contact_pairs.geometry(i).thermal_shift != 0 ?
-                ", " + format_number(contact_pairs.geometry(i).thermal_shift * 1e6) +
-                  " um by the temperatures" :
-                std::string())
+          << describe_interference(interface_list, contact_pairs, i)
           << "\n";
     log << "Static supports:\n" << description;
     check_interference();

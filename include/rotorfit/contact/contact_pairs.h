@@ -270,4 +270,12 @@ namespace rotorfit
     std::vector<ContactPair> pair_list;
     std::vector<Surface>     surfaces;
   };
+
+  /// The interference of interface @p i as the log states it, both models:
+  /// the fit given (an ISO fit or deviations: its designation, diameter and
+  /// the band's end this run uses), the radial interference and the
+  /// temperatures' shift.
+  std::string
+  describe_interference(const ContactInterfaces &interfaces, const ContactPairs &pairs,
+                        const unsigned int i);
 } // namespace rotorfit

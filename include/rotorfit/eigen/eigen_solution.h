@@ -30,6 +30,8 @@ namespace rotorfit
     std::vector<EigenPair> elastic;
     std::vector<RigidMode> rigid;
     std::vector<bool>      tied; ///< per contact pair
-    bool isotropic_supports = true; ///< the bearings at this speed are isotropic
+    /// the bearings at this speed are isotropic, and so is the rotor about
+    /// its axis (RevolutionCheck::transverse_inertia)
+    bool isotropic_supports = true;
   };
 } // namespace rotorfit

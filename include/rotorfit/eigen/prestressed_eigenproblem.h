@@ -1,5 +1,7 @@
 #pragma once
 
+#include <rotorfit/mesh/revolution_check.h>
+
 #include <rotorfit/base/log.h>
 #include <rotorfit/bearing/bearings.h>
 #include <rotorfit/eigen/damped_eigensolver.h>
@@ -255,6 +257,8 @@ namespace rotorfit
     /// direction (RevolutionCheck); the warning at the first speed above 0
     /// when a body is not one of revolution.
     std::vector<double> circumferential_share;
+    /// per body: centroid and second moments about the axis
+    std::vector<RevolutionCheck::Inertia> inertia;
     bool                revolution_warned = false;
     unsigned int reduced_solves = 0, reduced_refusals = 0, reduced_trials = 0;
     /// speeds served by an undamped anchor, and those whose undamped anchor

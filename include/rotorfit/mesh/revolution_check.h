@@ -32,6 +32,39 @@ namespace rotorfit
                           const unsigned int           n_bodies,
                           const MPI_Comm               comm);
 
+    /**
+     * What decides whether a body that is not one of revolution still whirls
+     * as one (doc/theory.md 4.1): its centre and its second moments about the
+     * axis. For each body (uniform density, so volumes serve), the
+     * centroid's distance from the axis and the transverse anisotropy of
+     * the second moments of volume J_xx = int x^2, J_yy = int y^2,
+     * J_xy = int x y: sqrt((J_xx - J_yy)^2 + 4 J_xy^2) / (J_xx + J_yy),
+     * 0 for a body of revolution and for N >= 3 equal blades, (b^2 - h^2) /
+     * (b^2 + h^2) for a b x h rectangular section. An anisotropic rotor
+     * (a flat, a keyway, two blades) is parametrically excited in the
+     * stationary frame: no mode of it is a mode there.
+     */
+    struct Inertia
+    {
+      double volume     = 0; ///< [m^3]
+      double offset     = 0; ///< centroid's distance from the axis [m]
+      double gyration   = 0; ///< transverse radius of gyration sqrt((J_xx + J_yy) / V) [m]
+      double anisotropy = 0; ///< [-]
+    };
+    static std::vector<Inertia>
+    transverse_inertia(const AssemblyMesh          &mesh,
+                       const dealii::DoFHandler<3> &dofs,
+                       const unsigned int           n_bodies,
+                       const MPI_Comm               comm);
+
+    /// An anisotropy above this makes the stationary frame wrong for the
+    /// whole body, whirl included (the meshes of TS and CI measure below
+    /// 1e-6; an elliptic section of axes 1 : 1.001 measures 1e-3).
+    static constexpr double anisotropy_limit = 1e-4;
+    /// A centroid further off the axis than this fraction of the radius of
+    /// gyration is reported as an unbalance the Unbalances do not hold.
+    static constexpr double offset_limit = 1e-4;
+
     /// A share above this marks a body that is not one of revolution
     /// (0.5 %: TS's and CI's meshes measure 0, the bladed impeller's hub
     /// 14 %).

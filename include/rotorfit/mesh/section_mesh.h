@@ -135,9 +135,10 @@ namespace rotorfit
             const dealii::Vector<float>      &indicator,
             const double                      fraction) const;
 
-    /// One line per body for the log.
+    /// One line per body for the log; @p meridian: the plan alone (the
+    /// harmonic model's meridian has no cells around).
     std::string
-    describe() const;
+    describe(const bool meridian = false) const;
 
     unsigned int
     circumferential_cells() const
