@@ -643,6 +643,16 @@ def check_refinement(exe, prm, out, cycles, ratio, tol, *sets):
     return 0 if ok else 1
 
 
+def first_harmonic_1_at_rest(folder):
+    """Harmonic 1's lowest frequency at 0 r/min in FOLDER's campbell.csv."""
+    return min(float(r["frequency_hz"]) for r in at(rows(folder), 0.0) if r["harmonic"] == "1")
+
+
+def harmonic_1_dofs(folder):
+    """Harmonic 1's DoF count, the last one FOLDER's log states."""
+    return re.findall(r"Harmonic 1: (\d+) DoFs", open(os.path.join(folder, "log.txt")).read())[-1]
+
+
 def check_refinement_modal(exe, prm, out, cycles, reference, tol, *sets):
     """Adaptive refinement of the harmonic model's meridian with the modal
     indicator on a joint whose frequency converges slowly under uniform
@@ -651,18 +661,12 @@ def check_refinement_modal(exe, prm, out, cycles, reference, tol, *sets):
     closer to it than on cycle 0."""
     run_test.run(exe, prepare(prm, out, ["Mesh refinement/Cycles=" + cycles] + list(sets)))
 
-    def first(folder):
-        return min(float(r["frequency_hz"]) for r in at(rows(folder), 0.0) if r["harmonic"] == "1")
-
-    def dofs(folder):
-        return re.findall(r"Harmonic 1: (\d+) DoFs", open(os.path.join(folder, "log.txt")).read())[-1]
-
     ref = float(reference)
-    e0 = (first(os.path.join(out, "cycle_0")) - ref) / ref
-    e1 = (first(out) - ref) / ref
+    e0 = (first_harmonic_1_at_rest(os.path.join(out, "cycle_0")) - ref) / ref
+    e1 = (first_harmonic_1_at_rest(out) - ref) / ref
     good = abs(e1) <= float(tol) and abs(e1) < abs(e0)
-    print(f"harmonic 1, mode 1 at rest: {e0:+.3e} on cycle 0 ({dofs(os.path.join(out, 'cycle_0'))} "
-          f"DoFs), {e1:+.3e} after {cycles} cycles ({dofs(out)} DoFs) against {ref} "
+    print(f"harmonic 1, mode 1 at rest: {e0:+.3e} on cycle 0 ({harmonic_1_dofs(os.path.join(out, 'cycle_0'))} "
+          f"DoFs), {e1:+.3e} after {cycles} cycles ({harmonic_1_dofs(out)} DoFs) against {ref} "
           f"(within {tol} and closer) {'ok' if good else 'FAILED'}")
     return 0 if good else 1
 
@@ -676,18 +680,12 @@ def check_fit_edge(exe, prm, out, edge, reference, tol, *sets):
     run_test.run(exe, prepare(prm, plain, list(sets)))
     run_test.run(exe, prepare(prm, graded, list(sets) + ["Geometry/Sections/Fit edge element size=" + edge]))
 
-    def first(folder):
-        return min(float(r["frequency_hz"]) for r in at(rows(folder), 0.0) if r["harmonic"] == "1")
-
-    def dofs(folder):
-        return re.findall(r"Harmonic 1: (\d+) DoFs", open(os.path.join(folder, "log.txt")).read())[-1]
-
     ref = float(reference)
-    e0 = (first(plain) - ref) / ref
-    e1 = (first(graded) - ref) / ref
+    e0 = (first_harmonic_1_at_rest(plain) - ref) / ref
+    e1 = (first_harmonic_1_at_rest(graded) - ref) / ref
     good = abs(e1) <= float(tol) and abs(e1) < abs(e0)
-    print(f"harmonic 1, mode 1 at rest: {e0:+.3e} without grading ({dofs(plain)} DoFs), {e1:+.3e} "
-          f"with {edge} m at the fit's edges ({dofs(graded)} DoFs) against {ref} (within {tol} and "
+    print(f"harmonic 1, mode 1 at rest: {e0:+.3e} without grading ({harmonic_1_dofs(plain)} DoFs), {e1:+.3e} "
+          f"with {edge} m at the fit's edges ({harmonic_1_dofs(graded)} DoFs) against {ref} (within {tol} and "
           f"closer) {'ok' if good else 'FAILED'}")
     return 0 if good else 1
 

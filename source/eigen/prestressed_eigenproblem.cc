@@ -153,29 +153,9 @@ namespace rotorfit
     tangent.setup();
     circumferential_share = RevolutionCheck::circumferential_share(
       model.mesh(), dof_handler, model.bodies().size(), dof_handler.get_communicator());
-    for (unsigned int b = 0; b < circumferential_share.size(); ++b)
-      if (circumferential_share[b] > RevolutionCheck::limit)
-        log << "Body " << model.bodies()[b].name << ": " << 100 * circumferential_share[b]
-            << " % of its surface faces the circumferential direction: not a body of "
-               "revolution; the stationary frame holds above 0 r/min only for the modes that "
-               "move it rigidly (doc/bladed_impeller.md)\n";
     inertia = RevolutionCheck::transverse_inertia(model.mesh(), dof_handler, model.bodies().size(),
                                                   dof_handler.get_communicator());
-    for (unsigned int b = 0; b < inertia.size(); ++b)
-      {
-        const auto &i = inertia[b];
-        if (i.anisotropy > RevolutionCheck::anisotropy_limit)
-          log << "Body " << model.bodies()[b].name << ": its second moments about the axis are "
-              << "anisotropic (" << i.anisotropy
-              << " = |J_xx - J_yy, 2 J_xy| / (J_xx + J_yy): a flat, a keyway, one or two "
-                 "blades, an elliptic section); the stationary frame holds above 0 r/min for "
-                 "none of its modes, the whirl included (doc/theory.md 4.1)\n";
-        if (i.offset > RevolutionCheck::offset_limit * i.gyration)
-          log << "Body " << model.bodies()[b].name << ": its centroid lies " << i.offset * 1e3
-              << " mm off the axis: a static unbalance of "
-              << model.bodies()[b].density * i.volume * i.offset
-              << " kg m that the Unbalances do not include and the eigenproblem does not see\n";
-      }
+    log << RevolutionCheck::describe(circumferential_share, inertia, model.bodies());
 
     // more modes than the model has
     std::vector<bool>  loose;

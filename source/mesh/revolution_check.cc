@@ -5,6 +5,7 @@
 #include <deal.II/fe/fe_values.h>
 
 #include <cmath>
+#include <sstream>
 
 namespace rotorfit
 {
@@ -93,5 +94,34 @@ namespace rotorfit
         result[k].anisotropy = jxx + jyy > 0 ? std::hypot(jxx - jyy, 2 * jxy) / (jxx + jyy) : 0.;
       }
     return result;
+  }
+
+  std::string
+  RevolutionCheck::describe(const std::vector<double>  &share,
+                            const std::vector<Inertia> &inertia,
+                            const Bodies               &bodies)
+  {
+    std::ostringstream log;
+    for (unsigned int b = 0; b < share.size(); ++b)
+      if (share[b] > limit)
+        log << "Body " << bodies[b].name << ": " << 100 * share[b]
+            << " % of its surface faces the circumferential direction: not a body of "
+               "revolution; the stationary frame holds above 0 r/min only for the modes that "
+               "move it rigidly (doc/bladed_impeller.md)\n";
+    for (unsigned int b = 0; b < inertia.size(); ++b)
+      {
+        const auto &i = inertia[b];
+        if (i.anisotropy > anisotropy_limit)
+          log << "Body " << bodies[b].name << ": its second moments about the axis are "
+              << "anisotropic (" << i.anisotropy
+              << " = |J_xx - J_yy, 2 J_xy| / (J_xx + J_yy): a flat, a keyway, one or two "
+                 "blades, an elliptic section); the stationary frame holds above 0 r/min for "
+                 "none of its modes, the whirl included (doc/theory.md 4.1)\n";
+        if (i.offset > offset_limit * i.gyration)
+          log << "Body " << bodies[b].name << ": its centroid lies " << i.offset * 1e3
+              << " mm off the axis: a static unbalance of " << bodies[b].density * i.volume * i.offset
+              << " kg m that the Unbalances do not include and the eigenproblem does not see\n";
+      }
+    return log.str();
   }
 } // namespace rotorfit

@@ -1,9 +1,11 @@
 #pragma once
 
+#include <rotorfit/material/bodies.h>
 #include <rotorfit/mesh/assembly_mesh.h>
 
 #include <deal.II/dofs/dof_handler.h>
 
+#include <string>
 #include <vector>
 
 namespace rotorfit
@@ -64,6 +66,13 @@ namespace rotorfit
     /// A centroid further off the axis than this fraction of the radius of
     /// gyration is reported as an unbalance the Unbalances do not hold.
     static constexpr double offset_limit = 1e-4;
+
+    /// The set-up's log lines of the bodies that are not of revolution,
+    /// anisotropic or off the axis (none for a body of revolution).
+    static std::string
+    describe(const std::vector<double>  &share,
+             const std::vector<Inertia> &inertia,
+             const Bodies               &bodies);
 
     /// A share above this marks a body that is not one of revolution
     /// (0.5 %: TS's and CI's meshes measure 0, the bladed impeller's hub
